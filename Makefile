@@ -1,0 +1,23 @@
+# cloth_sim: the two commands of the README, plus a few helpers.
+#   make run    installs what is missing, builds, runs the default demo scene
+#   make test   installs what is missing, builds, runs every test (gate: catkin_test_results)
+SHELL := /bin/bash
+SCENE ?= hanging
+
+.PHONY: run test build deps clean
+
+run: deps
+	@bash scripts/build.sh
+	@SCENE=$(SCENE) bash scripts/run_demo.sh
+
+test: deps
+	@bash scripts/test.sh
+
+build: deps
+	@bash scripts/build.sh
+
+deps:
+	@bash scripts/install_deps.sh
+
+clean:
+	rm -rf .catkin_ws

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages cloth_sim needs (ROS 1 from Debian's own archive, no ROS apt repo).
+# Idempotent: does nothing when everything is already installed. Uses sudo only when not root.
+set -euo pipefail
+
+PACKAGES=(
+  # build tools and ROS 1 core (Debian names; see ROS_ON_DEBIAN.md)
+  build-essential cmake catkin ros-core-dev libroscpp-dev python3-rostest librostest-dev
+  python3-roslaunch rosbash ros-message-generation ros-message-runtime
+  # message packages and tf2
+  libstd-msgs-dev libstd-srvs-dev libgeometry-msgs-dev libvisualization-msgs-dev
+  libtf2-ros-dev tf2-tools libtf2-eigen-dev
+  # node extras
+  libinteractive-markers-dev libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
+  libdiagnostic-updater-dev rviz librviz-dev
+  # core libraries
+  libeigen3-dev libyaml-cpp-dev libtinyobjloader-dev libcli11-dev libsuitesparse-dev
+  # tests
+  libgtest-dev libgmock-dev python3-nose
+  # headless RViz, screenshots, benchmark plot
+  xvfb xauth imagemagick x11-utils mesa-utils python3-matplotlib
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "[install_deps] all ${#PACKAGES[@]} Debian packages already installed"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "[install_deps] installing ${#missing[@]} missing packages: ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q
+$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
