@@ -1,0 +1,74 @@
+/// @file solver.h
+/// One interface for every time integrator, selectable by name.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cloth_sim/core/model.h"
+#include "cloth_sim/core/pins.h"
+
+namespace cloth_sim {
+
+/// Iteration controls shared by the solvers (each uses what applies to it).
+struct SolverSettings {
+  /// Iterations per step: local/global and chebyshev run exactly this many unless tolerance
+  /// stops them first; newton uses it as a cap. Ignored by the explicit solvers. >= 1.
+  int max_iterations = 10;
+  /// Stop when the convergence measure (relative position change of the last iteration, see
+  /// SolveResult) drops below this. 0 = always run max_iterations (fixed real-time cost).
+  double tolerance = 0.0;
+  /// chebyshev: spectral radius rho of plain local/global, in [0, 1). 0 = estimate on line.
+  double chebyshev_rho = 0.0;
+  /// chebyshev: under-relaxation gamma of Wang 2015, in (0, 1].
+  double chebyshev_gamma = 0.9;
+  /// chebyshev: plain local/global iterations before acceleration starts (Wang's S), >= 1.
+  int chebyshev_delay = 3;
+
+  /// Throws std::invalid_argument naming the first field out of its range.
+  void validate() const;
+};
+
+/// What a solver did in one step.
+struct SolveResult {
+  int iterations = 0;        ///< iterations done (1 for the explicit solvers)
+  /// Relative position change of the last iteration, |x_k - x_{k-1}| / |x_k - x_0| (x_0 the
+  /// initial guess); 0 for the explicit solvers.
+  double convergence = 0.0;
+  bool converged = false;    ///< tolerance reached (always false when tolerance is 0)
+};
+
+/// The parts of the world a solver reads besides the state.
+struct SolverInput {
+  const Model& model;
+  const PinSet& pins;
+  /// Bumped whenever h, a stiffness, a mass or the set of pins changes: a solver holding a
+  /// factorization refactors when it sees a new value, and only then.
+  std::uint64_t revision;
+};
+
+/// A time integrator for the mass-spring model. It moves @c state by one step of
+/// model.time_step (pins at their current targets, no collision: Simulation resolves those).
+class Solver {
+ public:
+  virtual ~Solver() = default;
+  /// Name used to select it: "explicit_euler", "verlet", "newton", "local_global", "chebyshev".
+  virtual const char* name() const = 0;
+  /// Advances @p state by one step. May leave non-finite values on blow-up: the caller checks.
+  virtual SolveResult step(const SolverInput& input, const SolverSettings& settings,
+                           State& state) = 0;
+  /// Sparse matrix factorizations done so far (numeric ones; Newton does one per iteration).
+  int factorizationCount() const { return factorizations_; }
+
+ protected:
+  int factorizations_ = 0;
+};
+
+/// The names makeSolver accepts.
+std::vector<std::string> solverNames();
+/// A new solver by name; throws std::invalid_argument listing the valid names if unknown.
+std::unique_ptr<Solver> makeSolver(const std::string& name);
+
+}  // namespace cloth_sim

@@ -1,0 +1,49 @@
+#include "cloth_sim/core/solver.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "cloth_sim/core/explicit_solvers.h"
+#include "cloth_sim/core/local_global_solver.h"
+#include "cloth_sim/core/newton_solver.h"
+
+namespace cloth_sim {
+
+void SolverSettings::validate() const {
+  if (max_iterations < 1) {
+    throw std::invalid_argument("solver iterations = " + std::to_string(max_iterations) +
+                                " must be >= 1");
+  }
+  if (!std::isfinite(tolerance) || tolerance < 0.0) {
+    throw std::invalid_argument("solver tolerance must be finite and >= 0");
+  }
+  if (!std::isfinite(chebyshev_rho) || chebyshev_rho < 0.0 || chebyshev_rho >= 1.0) {
+    throw std::invalid_argument("chebyshev rho = " + std::to_string(chebyshev_rho) +
+                                " must be in [0, 1) (0 = measure it)");
+  }
+  if (!std::isfinite(chebyshev_gamma) || chebyshev_gamma <= 0.0 || chebyshev_gamma > 1.0) {
+    throw std::invalid_argument("chebyshev gamma = " + std::to_string(chebyshev_gamma) +
+                                " must be in (0, 1]");
+  }
+  if (chebyshev_delay < 1) {
+    throw std::invalid_argument("chebyshev delay = " + std::to_string(chebyshev_delay) +
+                                " must be >= 1");
+  }
+}
+
+std::vector<std::string> solverNames() {
+  return {"explicit_euler", "verlet", "newton", "local_global", "chebyshev"};
+}
+
+std::unique_ptr<Solver> makeSolver(const std::string& name) {
+  if (name == "explicit_euler") return std::make_unique<ExplicitEulerSolver>();
+  if (name == "verlet") return std::make_unique<VerletSolver>();
+  if (name == "newton") return std::make_unique<NewtonSolver>();
+  if (name == "local_global") return std::make_unique<LocalGlobalSolver>();
+  if (name == "chebyshev") return std::make_unique<ChebyshevSolver>();
+  std::string list;
+  for (const auto& n : solverNames()) list += (list.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown solver '" + name + "' (known: " + list + ")");
+}
+
+}  // namespace cloth_sim
