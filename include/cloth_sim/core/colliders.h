@@ -1,0 +1,71 @@
+/// @file colliders.h
+/// Kinematic colliders (spheres, ground plane) and the contact response applied after a solve.
+#pragma once
+
+#include <vector>
+
+#include "cloth_sim/core/types.h"
+
+namespace cloth_sim {
+
+/// A kinematic sphere: the user places it and may give it a constant velocity (thrown); the
+/// cloth does not push it back.
+struct SphereCollider {
+  int id = -1;                  ///< stable handle, unique within Colliders
+  Vec3 center = Vec3::Zero();   ///< m
+  double radius = 0.1;          ///< m, > 0
+  Vec3 velocity = Vec3::Zero(); ///< m/s; the centre moves by velocity * h every step
+  double friction = 0.0;        ///< Coulomb coefficient mu >= 0 (0 = frictionless)
+};
+
+/// The plane z = height with normal +z.
+struct GroundPlane {
+  bool enabled = false;
+  double height = 0.0;    ///< m
+  double friction = 0.0;  ///< Coulomb coefficient mu >= 0
+};
+
+/// The colliders of a simulation, with stable sphere ids.
+class Colliders {
+ public:
+  /// Adds a sphere (its id field is ignored) and returns the new id. Throws
+  /// std::invalid_argument naming the bad field (non-finite, radius <= 0, friction < 0).
+  int addSphere(const SphereCollider& sphere);
+  /// Throws std::invalid_argument if no sphere has this id.
+  void removeSphere(int id);
+  /// Places sphere @p id at @p center with @p velocity; validated as in addSphere.
+  void moveSphere(int id, const Vec3& center, const Vec3& velocity);
+  const SphereCollider* findSphere(int id) const;
+  const std::vector<SphereCollider>& spheres() const { return spheres_; }
+
+  /// Throws std::invalid_argument when height or friction is not finite or friction < 0.
+  void setGround(const GroundPlane& ground);
+  const GroundPlane& ground() const { return ground_; }
+
+  /// Moves every sphere by velocity * h.
+  void advance(double h);
+  bool empty() const { return spheres_.empty() && !ground_.enabled; }
+
+ private:
+  std::vector<SphereCollider> spheres_;
+  GroundPlane ground_;
+  int next_id_ = 0;
+};
+
+/// Contact response after the solve (Liu et al. 2013, section 5: move penetrating particles out).
+///
+/// For each particle that is free (@p movable[i] true): spheres are tested along the particle's
+/// path relative to the sphere (from start - old centre to end - new centre), so a fast sphere
+/// cannot pass through a particle within one step; a particle that entered is put back on the
+/// surface where it entered, and one below the ground is lifted onto it. Coulomb friction cuts
+/// the tangential displacement relative to the collider by mu times the normal correction
+/// (sticking when it is smaller). Each corrected particle gets the velocity
+/// (end - start) / h, so velocities stay consistent with the projected positions: against a
+/// still collider the normal speed into it becomes 0 and no energy is added.
+///
+/// Spheres are at their end-of-step centres (Colliders::advance done); the start centre is
+/// center - velocity * h. Returns the number of corrected particles.
+int resolveCollisions(const Colliders& colliders, double h, const std::vector<char>& movable,
+                      const Points& start, Points& end, Points& velocities);
+
+}  // namespace cloth_sim

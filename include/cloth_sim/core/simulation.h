@@ -1,0 +1,123 @@
+/// @file simulation.h
+/// One simulated object: model, state, pins, colliders and a solver, stepped together.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cloth_sim/core/colliders.h"
+#include "cloth_sim/core/model.h"
+#include "cloth_sim/core/pins.h"
+#include "cloth_sim/core/solver.h"
+
+namespace cloth_sim {
+
+/// Outcome of a step.
+enum class StepStatus {
+  kOk,         ///< step taken
+  kNonFinite,  ///< the solver produced NaN/Inf: rolled back (see Simulation::step)
+  kDiverged,   ///< max strain above SimulationOptions::divergence_strain: rolled back
+};
+/// "ok", "non_finite", "diverged".
+const char* stepStatusName(StepStatus status);
+
+/// What one step did and cost.
+struct StepReport {
+  StepStatus status = StepStatus::kOk;
+  int iterations = 0;        ///< solver iterations (SolveResult)
+  double convergence = 0.0;  ///< relative position change of the last iteration (SolveResult)
+  bool converged = false;    ///< the solver tolerance was reached
+  double solve_time = 0.0;   ///< s of wall time in the solver
+  double wall_time = 0.0;    ///< s of wall time for the whole step (solve, contacts, checks)
+  int contacts = 0;          ///< particles moved by the collision response
+  double max_strain = 0.0;   ///< max |l - r| / r over the springs after the step
+  std::string message;       ///< empty when ok; otherwise what went wrong and what was done
+};
+
+/// Options fixed at construction (the solver and its settings can be changed later).
+struct SimulationOptions {
+  std::string solver = "local_global";  ///< a name from solverNames()
+  SolverSettings settings;
+  /// Strain (|l - r| / r) above which a step is declared diverged and rolled back. The default
+  /// 100 (10,000 %) is far above anything an implicit step reaches, even with a pin yanked 1 m
+  /// across a 30-particle cloth, and is hit within a few steps by an unstable explicit solver.
+  double divergence_strain = 100.0;
+
+  /// Throws std::invalid_argument naming the bad field (unknown solver, bad settings, ...).
+  void validate() const;
+};
+
+/// A mass-spring object with its pins and colliders, advanced one time step at a time.
+///
+/// Every editing method validates its input first and throws std::invalid_argument with a
+/// message naming what is wrong, leaving the simulation untouched. Changing h, a stiffness or
+/// the set of pins bumps the revision, so a factorizing solver refactors once at the next step;
+/// moving a pin target or a sphere does not.
+class Simulation {
+ public:
+  Simulation(Model model, const Points& rest_positions, PinSet pins, Colliders colliders,
+             SimulationOptions options);
+
+  /// Advances by model().time_step: spheres move, the solver steps, contacts are resolved and
+  /// the result is checked. A non-finite or diverged result is rolled back: the state, pins and
+  /// spheres return to what they were before the step with every velocity set to zero (the
+  /// simulation stays usable and can go on), and the report says so.
+  StepReport step();
+
+  /// Back to the initial state, pins and spheres given at construction. Stiffness, damping,
+  /// h and solver keep their current values.
+  void reset();
+
+  // --- run-time edits -------------------------------------------------------------------------
+  /// Pins @p vertex at @p target (N/m stiffness, 0 = hard); returns the pin id.
+  int addPin(int vertex, const Vec3& target, double stiffness = 0.0);
+  /// Pins @p vertex where it is now.
+  int addPinHere(int vertex, double stiffness = 0.0);
+  void removePin(int id);
+  void movePin(int id, const Vec3& target);
+  int addSphere(const SphereCollider& sphere);
+  void removeSphere(int id);
+  void moveSphere(int id, const Vec3& center, const Vec3& velocity);
+  void setGround(const GroundPlane& ground);
+  void setFamilyStiffness(SpringFamily family, double stiffness);
+  /// Damping rate (1/s), see Model::damping. Does not refactor.
+  void setDamping(double damping);
+  void setTimeStep(double h);
+  /// Switches solver (by name); the new one factorizes at its first step if it needs to.
+  void setSolver(const std::string& name);
+  void setSolverSettings(const SolverSettings& settings);
+
+  // --- read access ----------------------------------------------------------------------------
+  const Model& model() const { return model_; }
+  const State& state() const { return state_; }
+  const PinSet& pins() const { return pins_; }
+  const Colliders& colliders() const { return colliders_; }
+  const Solver& solver() const { return *solver_; }
+  const SolverSettings& solverSettings() const { return options_.settings; }
+  const SimulationOptions& options() const { return options_; }
+  /// Index of the particle nearest to @p point (m).
+  int nearestParticle(const Vec3& point) const;
+  /// Total energy (J): kinetic + springs + soft pins + gravity potential (zero at z = 0).
+  double totalEnergy() const;
+  /// Numeric factorizations done by all solvers so far.
+  int factorizationCount() const;
+  /// Bumped when h, a stiffness, a mass or the pin set changes (see SolverInput).
+  std::uint64_t revision() const { return revision_; }
+
+ private:
+  void rebuildMovableMask();
+
+  Model model_;
+  State state_, initial_state_;
+  PinSet pins_, initial_pins_;
+  Colliders colliders_, initial_colliders_;
+  SimulationOptions options_;
+  std::unique_ptr<Solver> solver_;
+  int retired_factorizations_ = 0;
+  std::uint64_t revision_ = 1;
+  std::vector<char> movable_;  ///< false for hard-pinned particles (collisions skip them)
+};
+
+}  // namespace cloth_sim
