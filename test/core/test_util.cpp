@@ -1,5 +1,7 @@
 #include "test_util.h"
 
+#include <cmath>
+
 namespace cloth_sim::test {
 
 std::string sourcePath(const std::string& relative) {
@@ -29,6 +31,39 @@ BuiltObject makeGrid(int rows, int cols, double structural, double shear, double
   spec.has_bending = bending > 0.0;
   spec.bending = bending;
   return buildGrid(spec);
+}
+
+double staticStretchError(Solver& solver, const SolverSettings& settings) {
+  const double m = 0.2, k = 50.0, rest = 0.5;
+  HangingSpring sys = makeHangingSpring(m, k, rest, 1.0 / 60.0);
+  sys.model.damping = 5.0;
+  State s = State::atRest(sys.rest);
+  for (int step = 0; step < 1200; ++step) solver.step({sys.model, sys.pins, 1}, settings, s);
+  const double stretch = (s.positions.col(1) - s.positions.col(0)).norm() - rest;
+  return std::abs(stretch - m * 9.81 / k) / (m * 9.81 / k);
+}
+
+double softPinSagError(Solver& solver, const SolverSettings& settings) {
+  const double m = 0.4, k_pin = 80.0;
+  Model model;
+  model.mass = Eigen::VectorXd::Constant(1, m);
+  model.damping = 5.0;
+  PinSet pins;
+  pins.add(0, Vec3(0, 0, 1), k_pin, 1);
+  State s = State::atRest(Points(Vec3(0, 0, 1)));
+  for (int step = 0; step < 1200; ++step) solver.step({model, pins, 1}, settings, s);
+  return std::abs((1.0 - s.positions(2, 0)) - m * 9.81 / k_pin) / (m * 9.81 / k_pin);
+}
+
+double momentumDrift(Solver& solver, const SolverSettings& settings, int steps) {
+  BuiltObject g = makeGrid(5, 5, 300.0, 30.0, 3.0);
+  g.model.gravity.setZero();
+  PinSet pins;
+  State s = State::atRest(g.rest_positions);
+  s.velocities = Points::Random(3, 25);
+  const Vec3 p0 = s.velocities * g.model.mass;
+  for (int step = 0; step < steps; ++step) solver.step({g.model, pins, 1}, settings, s);
+  return (s.velocities * g.model.mass - p0).norm() / s.velocities.colwise().norm().dot(g.model.mass);
 }
 
 SolverSettings convergedSettings(int max_iterations, double tolerance) {

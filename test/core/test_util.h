@@ -5,6 +5,7 @@
 
 #include "cloth_sim/core/grid_builder.h"
 #include "cloth_sim/core/simulation.h"
+#include "cloth_sim/core/solver.h"
 
 namespace cloth_sim::test {
 
@@ -22,6 +23,18 @@ HangingSpring makeHangingSpring(double mass, double stiffness, double rest, doub
 
 /// A small cloth grid (rows x cols, 1 m x 1 m, horizontal at z = 1) with the given stiffnesses.
 BuiltObject makeGrid(int rows, int cols, double structural, double shear, double bending);
+
+/// Lets a mass of 0.2 kg hang from a hard-pinned spring (k = 50 N/m, damping 5/s) for 20 s with
+/// @p solver and returns the relative error of its stretch against m g / k.
+double staticStretchError(Solver& solver, const SolverSettings& settings);
+
+/// Lets a 0.4 kg particle hang from a soft pin (k_pin = 80 N/m, damping 5/s) for 20 s with
+/// @p solver and returns the relative error of its sag against m g / k_pin.
+double softPinSagError(Solver& solver, const SolverSettings& settings);
+
+/// Steps a free 5 x 5 cloth (no gravity, pins or damping, random velocities) @p steps times and
+/// returns |P_end - P_0| / sum_i m_i |v_i|: the relative drift of the total linear momentum.
+double momentumDrift(Solver& solver, const SolverSettings& settings, int steps);
 
 /// Settings that run an iterative solver to convergence.
 SolverSettings convergedSettings(int max_iterations = 100000, double tolerance = 1e-13);
