@@ -4,7 +4,7 @@ set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
 
 mkdir -p "$WS/src"
-if [ ! -L "$WS/src/cloth_sim" ]; then ln -sfn "$REPO_ROOT" "$WS/src/cloth_sim"; fi
+ln -sfn "$REPO_ROOT" "$WS/src/cloth_sim"  # refreshed: the repository may have moved
 
 JOBS="${JOBS:-$(nproc)}"
 catkin_make -C "$WS" \

@@ -1,0 +1,39 @@
+# cloth_sim_core and its tests (included from CMakeLists.txt).
+# ---------------------------------------------------------------------------------------------
+# cloth_sim_core: C++17 + Eigen + yaml-cpp, no ROS header anywhere.
+add_library(cloth_sim_core
+  src/core/model.cpp
+  src/core/pins.cpp
+  src/core/dof_map.cpp
+  src/core/spring_kernels.cpp
+  src/core/sparse_pattern.cpp
+  src/core/implicit_euler.cpp
+  src/core/explicit_solvers.cpp
+  src/core/newton_solver.cpp
+  src/core/local_global_solver.cpp
+  src/core/solver.cpp
+  src/core/colliders.cpp
+  src/core/grid_builder.cpp
+  src/core/simulation.cpp
+  src/core/scene.cpp
+)
+target_include_directories(cloth_sim_core PUBLIC include ${EIGEN3_INCLUDE_DIRS})
+target_link_libraries(cloth_sim_core PUBLIC yaml-cpp)
+set_target_properties(cloth_sim_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
+
+
+# ---------------------------------------------------------------------------------------------
+# Core tests: one gtest per core module, no ROS master.
+if(CATKIN_ENABLE_TESTING)
+  set(CORE_TESTS
+    model_test pins_test spring_kernels_test implicit_euler_test explicit_solvers_test
+    newton_solver_test local_global_solver_test colliders_test grid_builder_test
+    simulation_test scene_test)
+  foreach(t ${CORE_TESTS})
+    catkin_add_gtest(${t} test/core/${t}.cpp test/core/test_util.cpp
+                     WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+    target_link_libraries(${t} cloth_sim_core GTest::gtest_main)
+    target_compile_definitions(${t} PRIVATE CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  endforeach()
+endif()
+
