@@ -3,6 +3,8 @@
 # ---------------------------------------------------------------------------------------------
 # cloth_sim_ros: the node's units (options, conversions, tf, markers, monitoring, handles,
 # teleop logic); pure ones are unit-tested without a master.
+include_directories(SYSTEM ${catkin_INCLUDE_DIRS})  # node targets only: included last
+
 add_library(cloth_sim_ros
   src/node/options.cpp
   src/node/conversions.cpp
@@ -13,7 +15,7 @@ add_library(cloth_sim_ros
   src/node/pin_handles.cpp
   src/node/pin_teleop.cpp
 )
-target_include_directories(cloth_sim_ros PUBLIC include ${catkin_INCLUDE_DIRS})
+target_include_directories(cloth_sim_ros PUBLIC include)
 target_link_libraries(cloth_sim_ros PUBLIC cloth_sim_core ${catkin_LIBRARIES})
 add_dependencies(cloth_sim_ros ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg
                  ${catkin_EXPORTED_TARGETS})
@@ -47,12 +49,13 @@ if(CATKIN_ENABLE_TESTING)
   endforeach()
 
   find_package(rostest REQUIRED)
-  set(NODE_ROSTESTS)
+  set(NODE_ROSTESTS integration bad_input reconfigure)
   foreach(t ${NODE_ROSTESTS})
     add_rostest_gtest(node_${t}_test test/node/${t}.test test/node/${t}_test.cpp
                       test/node/ros_test_util.cpp)
     target_link_libraries(node_${t}_test cloth_sim_ros GTest::gtest)
-    target_compile_definitions(node_${t}_test PRIVATE CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+    target_compile_definitions(node_${t}_test PRIVATE CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+                               CLOTH_SIM_NODE_EXE="$<TARGET_FILE:cloth_sim_node>")
     add_dependencies(node_${t}_test cloth_sim_node)
   endforeach()
 endif()

@@ -95,7 +95,7 @@ void ClothSimNode::step(const ros::SteadyTimerEvent&) {
   last_report_ = sim_.step();
   ++steps_since_reset_;
   const bool rolled_back = last_report_.status != StepStatus::kOk;
-  if (rolled_back) refuse("step", last_report_.message);
+  if (rolled_back) warnThrottled("rolled back", "step: " + last_report_.message);
   else window_sim_time_ += sim_.model().time_step;
   const bool must_reset = monitor_.record(rolled_back, last_report_.wall_time);
 
@@ -112,7 +112,7 @@ void ClothSimNode::step(const ros::SteadyTimerEvent&) {
                   "%d steps in a row were rolled back (~max_rollbacks); the solver '%s' and the "
                   "reconfigured values are kept",
                   options_.max_rollbacks, sim_.solver().name());
-    resetSimulation(why);
+    resetSimulation(why, /*automatic=*/true);
   }
   cullSpheres();
 }
@@ -142,12 +142,14 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
   markers_pub_.publish(build.markers);
 }
 
-void ClothSimNode::resetSimulation(const std::string& why) {
+void ClothSimNode::resetSimulation(const std::string& why, bool automatic) {
   sim_.reset();
   steps_since_reset_ = 0;
   monitor_.clearFailures();
-  ROS_WARN("simulation reset to the initial state of scene '%s': %s", scene_name_.c_str(),
-           why.c_str());
+  const std::string text =
+      "simulation reset to the initial state of scene '" + scene_name_ + "': " + why;
+  if (automatic) warnThrottled("automatic reset", text);
+  else ROS_INFO("%s", text.c_str());
 }
 
 void ClothSimNode::cullSpheres() {
@@ -164,7 +166,11 @@ void ClothSimNode::cullSpheres() {
 
 void ClothSimNode::refuse(const std::string& where, const std::string& why) {
   const std::string text = where + ": " + why;
-  if (refusals_.allow(text, ros::WallTime::now().toSec())) ROS_WARN("%s", text.c_str());
+  warnThrottled(text, text);
+}
+
+void ClothSimNode::warnThrottled(const std::string& key, const std::string& text) {
+  if (refusals_.allow(key, ros::WallTime::now().toSec())) ROS_WARN("%s", text.c_str());
 }
 
 void ClothSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {

@@ -104,7 +104,7 @@ bool ClothSimNode::onRemovePin(RemovePin::Request& req, RemovePin::Response& res
 
 bool ClothSimNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
   return answer("cloth/reset", res, [&] {
-    resetSimulation("requested on cloth/reset");
+    resetSimulation("requested on cloth/reset", /*automatic=*/false);
     return "reset to the initial state of scene '" + scene_name_ + "'";
   });
 }

@@ -15,7 +15,8 @@ using visualization_msgs::InteractiveMarker;
 using visualization_msgs::InteractiveMarkerControl;
 using visualization_msgs::InteractiveMarkerFeedback;
 
-constexpr double kSamePose = 1e-9;  ///< m; a smaller difference is not worth a republish
+constexpr double kSamePose = 1e-9;   ///< m; a smaller difference is not worth a republish
+constexpr double kHandleSize = 0.2;  ///< m across
 
 /// A control whose local x axis is (x, y, z): the axis of MOVE_AXIS, the normal of MOVE_PLANE.
 InteractiveMarkerControl makeControl(const char* name, std::uint8_t mode, double x, double y,
@@ -117,7 +118,7 @@ void PinHandles::sync(const std::vector<Pin>& pins) {
   for (const auto& [id, target] : wanted) {
     auto it = shown_.find(id);
     if (it == shown_.end()) {
-      server_.insert(makePinHandle(id, target, frame_id_, 0.25),
+      server_.insert(makePinHandle(id, target, frame_id_, kHandleSize),
                      [this](const auto& feedback) { onFeedback(feedback); });
       shown_.emplace(id, target);
       changed = true;

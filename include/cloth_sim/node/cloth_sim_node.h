@@ -56,12 +56,14 @@ class ClothSimNode {
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
   void onReconfigure(ClothSimConfig& config, std::uint32_t level);
   ClothSimConfig currentConfig() const;
-  /// Back to the initial state; @p why goes to the log.
-  void resetSimulation(const std::string& why);
+  /// Back to the initial state; @p why goes to the log (throttled when @p automatic).
+  void resetSimulation(const std::string& why, bool automatic);
   /// Removes the spheres that flew beyond ~sphere_cull_distance.
   void cullSpheres();
-  /// Logs @p why (a warning) at most once per few seconds per distinct text.
+  /// Logs "<where>: <why>" as a warning, at most once per few seconds per distinct text.
   void refuse(const std::string& where, const std::string& why);
+  /// Logs @p text as a warning at most once per few seconds per @p key.
+  void warnThrottled(const std::string& key, const std::string& text);
 
   // --- inputs (node_inputs.cpp) ---------------------------------------------------------------
   void onPinMove(const PinMove::ConstPtr& msg);
