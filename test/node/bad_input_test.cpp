@@ -120,9 +120,7 @@ TEST(BadInput, PinMoveRefusalsAreLoggedThrottledPerKind) {
   NodeProbe& p = probe();
   ros::NodeHandle nh;
   ros::Publisher pub = nh.advertise<PinMove>("cloth/pin_move", 100);
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(10.0);
-  while (pub.getNumSubscribers() == 0 && ros::WallTime::now() < end) ros::WallDuration(0.01).sleep();
-  ASSERT_GT(pub.getNumSubscribers(), 0u);
+  ASSERT_TRUE(waitForSubscriber(pub));
 
   auto send = [&](int id, const geometry_msgs::PointStamped& target) {
     PinMove m;

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <std_srvs/Trigger.h>
 
+#include <visualization_msgs/InteractiveMarkerFeedback.h>
+
 #include <cloth_sim/AddPin.h>
 #include <cloth_sim/PinMove.h>
 #include <cloth_sim/RemoveSphere.h>
@@ -95,7 +97,8 @@ TEST(Integration, APinMovedInAnotherFrameBringsItsVertexToTheTarget) {
   NodeProbe& p = probe();
   reset();
   ros::NodeHandle nh;
-  ros::Publisher pub = nh.advertise<PinMove>("cloth/pin_move", 1, /*latch=*/true);
+  ros::Publisher pub = nh.advertise<PinMove>("cloth/pin_move", 1);
+  ASSERT_TRUE(waitForSubscriber(pub));
   const Vec3 goal(-0.3, 0.6, 1.6);  // world; pin 0 rests at (-0.5, 0.5, 1.5)
   const Vec3 local = toTestFrame(goal);
   PinMove move;
@@ -129,6 +132,35 @@ TEST(Integration, APinMovedInAnotherFrameBringsItsVertexToTheTarget) {
       },
       2.0);
   EXPECT_TRUE(drawn) << "the pin marker did not move to the target";
+}
+
+TEST(Integration, DraggingAPinHandleMovesThePin) {
+  NodeProbe& p = probe();
+  reset();
+  // What RViz sends while a person drags the handle of pin 1.
+  ros::NodeHandle nh;
+  ros::Publisher pub = nh.advertise<visualization_msgs::InteractiveMarkerFeedback>(
+      "cloth/pin_handles/feedback", 10);
+  ASSERT_TRUE(waitForSubscriber(pub)) << "no drag handle server";
+  const Vec3 goal(0.4, 0.3, 1.7);
+  visualization_msgs::InteractiveMarkerFeedback fb;
+  fb.header.frame_id = "world";
+  fb.client_id = "/rviz/InteractiveMarkers";
+  fb.marker_name = "pin_1";
+  fb.control_name = "move_xy";
+  fb.event_type = visualization_msgs::InteractiveMarkerFeedback::POSE_UPDATE;
+  fb.pose.position.x = goal.x();
+  fb.pose.position.y = goal.y();
+  fb.pose.position.z = goal.z();
+  fb.pose.orientation.w = 1.0;
+  pub.publish(fb);
+  const auto moved = p.waitForState(
+      [&](const ClothState& s) {
+        const PinInfo* pin = findPin(s, 1);
+        return pin != nullptr && (toVec3(pin->position) - goal).norm() < 1e-9;
+      },
+      3.0);
+  EXPECT_TRUE(moved) << "pin 1 did not follow its handle";
 }
 
 TEST(Integration, ASpawnedSphereIsDrawnKeepsTheClothOutAndIsRemoved) {

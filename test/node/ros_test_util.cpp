@@ -197,6 +197,15 @@ bool allFinite(const visualization_msgs::MarkerArray& array) {
   return true;
 }
 
+bool waitForSubscriber(const ros::Publisher& pub, double timeout) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (pub.getNumSubscribers() == 0) {
+    if (ros::WallTime::now() > end) return false;
+    ros::WallDuration(0.01).sleep();
+  }
+  return true;
+}
+
 geometry_msgs::PointStamped stamped(const std::string& frame, double x, double y, double z) {
   geometry_msgs::PointStamped p;
   p.header.frame_id = frame;

@@ -78,6 +78,10 @@ Points clothPositions(const visualization_msgs::MarkerArray& array,
 /// True when every number of every marker of @p array is finite.
 bool allFinite(const visualization_msgs::MarkerArray& array);
 
+/// Waits until @p pub has a subscriber (a message published before that is lost); false after
+/// @p timeout s.
+bool waitForSubscriber(const ros::Publisher& pub, double timeout = 10.0);
+
 /// A point stamped in @p frame.
 geometry_msgs::PointStamped stamped(const std::string& frame, double x, double y, double z);
 
