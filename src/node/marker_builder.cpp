@@ -165,7 +165,7 @@ MarkerBuild buildMarkers(const MarkerScene& scene, const MarkerStyle& style,
                                           scene.ground.height - 0.5 * kThickness));
     g.scale.x = g.scale.y = sanitize(scene.ground_size);
     g.scale.z = kThickness;
-    g.color = rgba(0.45, 0.45, 0.42, 1.0);
+    g.color = rgba(0.75, 0.75, 0.7, 1.0);  // light: lit at a grazing angle it still shows
     out.push_back(g);
     build.shown.ground = true;
   }
