@@ -13,26 +13,23 @@ std::string str(double value) {
   return s.str();
 }
 
-}  // namespace
-
-Vec3 toVec3(const geometry_msgs::Point& p) { return Vec3(p.x, p.y, p.z); }
-Vec3 toVec3(const geometry_msgs::Vector3& v) { return Vec3(v.x, v.y, v.z); }
-
-geometry_msgs::Point toPointMsg(const Vec3& v) {
-  geometry_msgs::Point p;
-  p.x = v.x();
-  p.y = v.y();
-  p.z = v.z();
-  return p;
-}
-
-geometry_msgs::Vector3 toVector3Msg(const Vec3& v) {
-  geometry_msgs::Vector3 m;
+/// A message with x, y, z fields holding @p v.
+template <class Msg>
+Msg xyzMsg(const Vec3& v) {
+  Msg m;
   m.x = v.x();
   m.y = v.y();
   m.z = v.z();
   return m;
 }
+
+}  // namespace
+
+Vec3 toVec3(const geometry_msgs::Point& p) { return Vec3(p.x, p.y, p.z); }
+Vec3 toVec3(const geometry_msgs::Vector3& v) { return Vec3(v.x, v.y, v.z); }
+
+geometry_msgs::Point toPointMsg(const Vec3& v) { return xyzMsg<geometry_msgs::Point>(v); }
+geometry_msgs::Vector3 toVector3Msg(const Vec3& v) { return xyzMsg<geometry_msgs::Vector3>(v); }
 
 void requireFinite(const Vec3& v, const std::string& what) {
   if (!v.allFinite()) {

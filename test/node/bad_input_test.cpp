@@ -34,6 +34,14 @@ bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
+/// A refused request: success false, no id, and a message containing @p why.
+template <class Response>
+void expectRefused(const Response& res, const std::string& why) {
+  EXPECT_FALSE(res.success) << why;
+  EXPECT_EQ(res.id, -1) << why;
+  EXPECT_TRUE(contains(res.message, why)) << "expected '" << why << "', got '" << res.message << "'";
+}
+
 SpawnSphere::Request sphere(const geometry_msgs::PointStamped& center, double radius) {
   SpawnSphere::Request r;
   r.center = center;
@@ -65,10 +73,7 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   cases.emplace_back(r, "friction -1 must be finite and >= 0");
   for (const auto& [req, why] : cases) {
     const auto res = call<SpawnSphere>("cloth/spawn_sphere", req);
-    EXPECT_FALSE(res.success) << why;
-    EXPECT_EQ(res.id, -1) << why;
-    EXPECT_TRUE(contains(res.message, why)) << "expected '" << why << "', got '" << res.message
-                                            << "'";
+    expectRefused(res, why);
   }
   // A refused service call is logged too.
   EXPECT_TRUE(probe().waitForLog("cloth/spawn_sphere: radius 0 m must be finite", 5.0));
@@ -109,10 +114,7 @@ TEST(BadInput, AddPinRefusesWhatItCannotUse) {
   };
   for (const auto& [req, why] : cases) {
     const auto res = call<AddPin>("cloth/add_pin", req);
-    EXPECT_FALSE(res.success) << why;
-    EXPECT_EQ(res.id, -1) << why;
-    EXPECT_TRUE(contains(res.message, why)) << "expected '" << why << "', got '" << res.message
-                                            << "'";
+    expectRefused(res, why);
   }
 }
 

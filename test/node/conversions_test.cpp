@@ -7,6 +7,7 @@
 
 #include "cloth_sim/core/scene.h"
 #include "cloth_sim/node/conversions.h"
+#include "error_of.h"
 
 namespace cloth_sim::node {
 namespace {
@@ -14,16 +15,7 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// The message @p f throws as std::invalid_argument, or "" when it does not throw.
-template <class F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::errorOf;
 
 SpawnSphere::Request sphereRequest(double radius, double mass = 0.0, double friction = 0.0) {
   SpawnSphere::Request r;

@@ -7,6 +7,7 @@
 #include <tf2/LinearMath/Quaternion.h>
 
 #include "cloth_sim/node/frame_resolver.h"
+#include "error_of.h"
 
 namespace cloth_sim::node {
 namespace {
@@ -50,12 +51,7 @@ class FrameResolverTest : public ::testing::Test {
   }
 
   std::string errorOf(const geometry_msgs::PointStamped& p) const {
-    try {
-      resolver_.point(p, "target");
-    } catch (const std::invalid_argument& e) {
-      return e.what();
-    }
-    return "";
+    return test::errorOf([&] { resolver_.point(p, "target"); });
   }
 
   tf2_ros::Buffer buffer_;

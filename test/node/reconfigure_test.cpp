@@ -22,30 +22,26 @@ NodeProbe& probe() {
   return p;
 }
 
-/// Sets one parameter through the node's set_parameters service; returns the config it reports.
-dynamic_reconfigure::Config reconfigure(const std::string& name, double value) {
+/// Sets one parameter (a member of @p list, e.g. &Config::doubles) through the node's
+/// set_parameters service; returns the config the node reports back.
+template <class Param, class Value>
+dynamic_reconfigure::Config reconfigure(std::vector<Param> dynamic_reconfigure::Config::*list,
+                                        const std::string& name, const Value& value) {
   dynamic_reconfigure::Reconfigure::Request req;
-  dynamic_reconfigure::DoubleParameter p;
+  Param p;
   p.name = name;
   p.value = value;
-  req.config.doubles.push_back(p);
+  (req.config.*list).push_back(p);
   return call<dynamic_reconfigure::Reconfigure>(kSetParameters, req).config;
+}
+dynamic_reconfigure::Config reconfigure(const std::string& name, double value) {
+  return reconfigure(&dynamic_reconfigure::Config::doubles, name, value);
 }
 dynamic_reconfigure::Config reconfigure(const std::string& name, int value) {
-  dynamic_reconfigure::Reconfigure::Request req;
-  dynamic_reconfigure::IntParameter p;
-  p.name = name;
-  p.value = value;
-  req.config.ints.push_back(p);
-  return call<dynamic_reconfigure::Reconfigure>(kSetParameters, req).config;
+  return reconfigure(&dynamic_reconfigure::Config::ints, name, value);
 }
 dynamic_reconfigure::Config reconfigure(const std::string& name, const std::string& value) {
-  dynamic_reconfigure::Reconfigure::Request req;
-  dynamic_reconfigure::StrParameter p;
-  p.name = name;
-  p.value = value;
-  req.config.strs.push_back(p);
-  return call<dynamic_reconfigure::Reconfigure>(kSetParameters, req).config;
+  return reconfigure(&dynamic_reconfigure::Config::strs, name, value);
 }
 
 double doubleIn(const dynamic_reconfigure::Config& c, const std::string& name) {

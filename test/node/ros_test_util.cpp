@@ -16,6 +16,43 @@ void keep(std::vector<T>& v, const T& msg) {
 
 void sleepABit() { std::this_thread::sleep_for(std::chrono::milliseconds(5)); }
 
+/// The first message that arrives in @p buffer (emptied first) and satisfies @p pred.
+template <class T>
+std::optional<T> waitFor(std::mutex& mutex, std::vector<T>& buffer,
+                         const std::function<bool(const T&)>& pred, double timeout) {
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    buffer.clear();
+  }
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (ros::WallTime::now() < end) {
+    std::vector<T> got;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      got.swap(buffer);
+    }
+    for (const T& m : got) {
+      if (pred(m)) return m;
+    }
+    sleepABit();
+  }
+  return std::nullopt;
+}
+
+/// Every message that arrives in @p buffer (emptied first) during @p seconds.
+template <class T>
+std::vector<T> collect(std::mutex& mutex, std::vector<T>& buffer, double seconds) {
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    buffer.clear();
+  }
+  ros::WallDuration(seconds).sleep();
+  std::lock_guard<std::mutex> lock(mutex);
+  std::vector<T> out;
+  out.swap(buffer);
+  return out;
+}
+
 bool finite(const geometry_msgs::Point& p) {
   return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
 }
@@ -59,68 +96,20 @@ bool NodeProbe::waitForTraffic(double timeout) {
 
 std::optional<ClothState> NodeProbe::waitForState(
     const std::function<bool(const ClothState&)>& pred, double timeout) {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    states_.clear();
-  }
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
-  while (ros::WallTime::now() < end) {
-    std::vector<ClothState> got;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      got.swap(states_);
-    }
-    for (const ClothState& s : got) {
-      if (pred(s)) return s;
-    }
-    sleepABit();
-  }
-  return std::nullopt;
+  return waitFor(mutex_, states_, pred, timeout);
 }
 
 std::optional<visualization_msgs::MarkerArray> NodeProbe::waitForMarkers(
     const std::function<bool(const visualization_msgs::MarkerArray&)>& pred, double timeout) {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    markers_.clear();
-  }
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
-  while (ros::WallTime::now() < end) {
-    std::vector<visualization_msgs::MarkerArray> got;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      got.swap(markers_);
-    }
-    for (const auto& m : got) {
-      if (pred(m)) return m;
-    }
-    sleepABit();
-  }
-  return std::nullopt;
+  return waitFor(mutex_, markers_, pred, timeout);
 }
 
 std::vector<visualization_msgs::MarkerArray> NodeProbe::collectMarkers(double seconds) {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    markers_.clear();
-  }
-  ros::WallDuration(seconds).sleep();
-  std::lock_guard<std::mutex> lock(mutex_);
-  std::vector<visualization_msgs::MarkerArray> out;
-  out.swap(markers_);
-  return out;
+  return collect(mutex_, markers_, seconds);
 }
 
 std::vector<ClothState> NodeProbe::collectStates(double seconds) {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    states_.clear();
-  }
-  ros::WallDuration(seconds).sleep();
-  std::lock_guard<std::mutex> lock(mutex_);
-  std::vector<ClothState> out;
-  out.swap(states_);
-  return out;
+  return collect(mutex_, states_, seconds);
 }
 
 bool NodeProbe::waitForLog(const std::string& text, double timeout) {
