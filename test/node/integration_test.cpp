@@ -17,9 +17,8 @@
 namespace cloth_sim::test {
 namespace {
 
-/// test_frame -> world, as integration.test publishes it: turn 90 degrees about z, then move.
-Vec3 toWorld(const Vec3& p) { return Vec3(-p.y(), p.x(), p.z()) + Vec3(0.2, -0.3, 0.4); }
-/// world -> test_frame.
+/// world -> test_frame. integration.test publishes test_frame -> world as a turn of 90 degrees
+/// about z followed by a move of (0.2, -0.3, 0.4) m; this is its inverse.
 Vec3 toTestFrame(const Vec3& w) {
   const Vec3 d = w - Vec3(0.2, -0.3, 0.4);
   return Vec3(d.y(), -d.x(), d.z());
