@@ -49,12 +49,16 @@ if(CATKIN_ENABLE_TESTING)
   endforeach()
 
   find_package(rostest REQUIRED)
+  # Helpers of the rostests, compiled once for all of them (built only with the tests).
+  add_library(cloth_sim_rostest_util STATIC EXCLUDE_FROM_ALL test/node/ros_test_util.cpp)
+  target_link_libraries(cloth_sim_rostest_util PUBLIC cloth_sim_ros GTest::gtest)
+  target_compile_definitions(cloth_sim_rostest_util PUBLIC
+                             CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   set(NODE_ROSTESTS integration bad_input reconfigure)
   foreach(t ${NODE_ROSTESTS})
-    add_rostest_gtest(node_${t}_test test/node/${t}.test test/node/${t}_test.cpp
-                      test/node/ros_test_util.cpp)
-    target_link_libraries(node_${t}_test cloth_sim_ros GTest::gtest)
-    target_compile_definitions(node_${t}_test PRIVATE CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    add_rostest_gtest(node_${t}_test test/node/${t}.test test/node/${t}_test.cpp)
+    target_link_libraries(node_${t}_test cloth_sim_rostest_util)
+    target_compile_definitions(node_${t}_test PRIVATE
                                CLOTH_SIM_NODE_EXE="$<TARGET_FILE:cloth_sim_node>")
     add_dependencies(node_${t}_test cloth_sim_node)
   endforeach()

@@ -49,11 +49,13 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
   markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("cloth/markers", 2);
   state_pub_ = nh_.advertise<ClothState>("cloth/state", 10);
   pin_move_sub_ = nh_.subscribe("cloth/pin_move", 20, &ClothSimNode::onPinMove, this);
-  services_.push_back(nh_.advertiseService("cloth/spawn_sphere", &ClothSimNode::onSpawnSphere, this));
-  services_.push_back(nh_.advertiseService("cloth/remove_sphere", &ClothSimNode::onRemoveSphere, this));
-  services_.push_back(nh_.advertiseService("cloth/add_pin", &ClothSimNode::onAddPin, this));
-  services_.push_back(nh_.advertiseService("cloth/remove_pin", &ClothSimNode::onRemovePin, this));
-  services_.push_back(nh_.advertiseService("cloth/reset", &ClothSimNode::onReset, this));
+  services_ = {
+      nh_.advertiseService("cloth/spawn_sphere", &ClothSimNode::onSpawnSphere, this),
+      nh_.advertiseService("cloth/remove_sphere", &ClothSimNode::onRemoveSphere, this),
+      nh_.advertiseService("cloth/add_pin", &ClothSimNode::onAddPin, this),
+      nh_.advertiseService("cloth/remove_pin", &ClothSimNode::onRemovePin, this),
+      nh_.advertiseService("cloth/reset", &ClothSimNode::onReset, this),
+  };
 
   diagnostics_.setHardwareID("cloth_sim:" + scene_name_);
   diagnostics_.add("simulation step", this, &ClothSimNode::diagnose);
@@ -78,8 +80,9 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
   step_timer_ = nh_.createSteadyTimer(ros::WallDuration(h), &ClothSimNode::step, this);
   render_timer_ = nh_.createSteadyTimer(ros::WallDuration(1.0 / options_.render_rate),
                                         &ClothSimNode::render, this);
-  diagnostics_timer_ = nh_.createSteadyTimer(
-      ros::WallDuration(kDiagnosticsPoll), [this](const ros::SteadyTimerEvent&) { diagnostics_.update(); });
+  diagnostics_timer_ =
+      nh_.createSteadyTimer(ros::WallDuration(kDiagnosticsPoll),
+                            [this](const ros::SteadyTimerEvent&) { diagnostics_.update(); });
   if (options_.summary_period > 0.0) {
     summary_timer_ = nh_.createSteadyTimer(ros::WallDuration(options_.summary_period),
                                            &ClothSimNode::logSummary, this);

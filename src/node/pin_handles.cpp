@@ -65,7 +65,8 @@ InteractiveMarker makePinHandle(int pin_id, const Vec3& target, const std::strin
   m.pose = poseAt(target);
   m.scale = static_cast<float>(scale);
 
-  InteractiveMarkerControl free = makeControl("move_3d", InteractiveMarkerControl::MOVE_3D, 1, 0, 0);
+  InteractiveMarkerControl free =
+      makeControl("move_3d", InteractiveMarkerControl::MOVE_3D, 1, 0, 0);
   free.always_visible = true;
   visualization_msgs::Marker ball;
   ball.type = visualization_msgs::Marker::SPHERE;

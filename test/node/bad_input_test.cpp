@@ -39,7 +39,8 @@ template <class Response>
 void expectRefused(const Response& res, const std::string& why) {
   EXPECT_FALSE(res.success) << why;
   EXPECT_EQ(res.id, -1) << why;
-  EXPECT_TRUE(contains(res.message, why)) << "expected '" << why << "', got '" << res.message << "'";
+  EXPECT_TRUE(contains(res.message, why))
+      << "expected '" << why << "', got '" << res.message << "'";
 }
 
 SpawnSphere::Request sphere(const geometry_msgs::PointStamped& center, double radius) {
