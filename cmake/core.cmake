@@ -37,3 +37,11 @@ if(CATKIN_ENABLE_TESTING)
   endforeach()
 endif()
 
+
+# ---------------------------------------------------------------------------------------------
+# Per-particle strain field, for display by the ROS node (issue 3).
+target_sources(cloth_sim_core PRIVATE src/core/strain_field.cpp)
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(strain_field_test test/core/strain_field_test.cpp)
+  target_link_libraries(strain_field_test cloth_sim_core GTest::gtest_main)
+endif()

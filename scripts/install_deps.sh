@@ -13,6 +13,8 @@ PACKAGES=(
   # node extras
   libinteractive-markers-dev libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   libdiagnostic-updater-dev rviz librviz-dev
+  # Python message modules, so rostopic / rosservice can show the node's topics and services
+  python3-visualization-msgs python3-std-srvs python3-diagnostic-msgs
   # core libraries
   libeigen3-dev libyaml-cpp-dev libtinyobjloader-dev libcli11-dev libsuitesparse-dev
   # tests

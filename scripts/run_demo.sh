@@ -1,8 +1,33 @@
 #!/usr/bin/env bash
-# Runs the default demo scene (SCENE=name picks config/scenes/<name>.yaml).
-# Until the ROS node lands this is the headless core runner.
+# Runs the demo (make run; SCENE=name picks config/scenes/<name>.yaml): roslaunch cloth_sim
+# demo.launch with RViz when there is a display ($DISPLAY set), headless otherwise, where the
+# node then logs a one-line summary of the simulation every second. Ctrl-C stops it.
+# ROS_PORT=n runs it on its own ROS master at port n (default: the usual 11311, or the master
+# already running there).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
 SCENE="${SCENE:-hanging}"
-exec "$WS/devel/lib/cloth_sim/cloth_sim_run" --scene "$REPO_ROOT/config/scenes/$SCENE.yaml" \
-  --duration "${DURATION:-10}"
+if [ ! -f "$REPO_ROOT/config/scenes/$SCENE.yaml" ] && [ ! -f "$SCENE" ]; then
+  echo "[run_demo] no scene '$SCENE'; shipped scenes:" \
+       "$(cd "$REPO_ROOT/config/scenes" && ls *.yaml | sed 's/\.yaml$//' | tr '\n' ' ')" >&2
+  exit 1
+fi
+
+set +u  # setup.bash reads unset variables
+source "$WS/devel/setup.bash"
+set -u
+PORT_ARGS=()
+if [ -n "${ROS_PORT:-}" ]; then
+  export ROS_MASTER_URI="http://localhost:$ROS_PORT"
+  PORT_ARGS=(-p "$ROS_PORT")
+fi
+
+if [ -n "${DISPLAY:-}" ]; then
+  RVIZ=true SUMMARY=false
+else
+  RVIZ=false SUMMARY=true
+  echo "[run_demo] no DISPLAY: running headless, with a summary of cloth/state every second"
+  echo "[run_demo] (scripts/screenshot.sh $SCENE saves an RViz picture without a display)"
+fi
+exec roslaunch "${PORT_ARGS[@]}" cloth_sim demo.launch scene:="$SCENE" rviz:="$RVIZ" \
+  summary:="$SUMMARY"

@@ -1,0 +1,65 @@
+# The ROS shell (issue 3): node units, cloth_sim_node, pin_teleop and their tests
+# (included from CMakeLists.txt, after catkin_package).
+# ---------------------------------------------------------------------------------------------
+# cloth_sim_ros: the node's units (options, conversions, tf, markers, monitoring, handles,
+# teleop logic); pure ones are unit-tested without a master.
+include_directories(SYSTEM ${catkin_INCLUDE_DIRS})  # node targets only: included last
+
+add_library(cloth_sim_ros
+  src/node/options.cpp
+  src/node/conversions.cpp
+  src/node/frame_resolver.cpp
+  src/node/marker_builder.cpp
+  src/node/step_monitor.cpp
+  src/node/log_throttle.cpp
+  src/node/pin_handles.cpp
+  src/node/pin_teleop.cpp
+)
+target_include_directories(cloth_sim_ros PUBLIC include)
+target_link_libraries(cloth_sim_ros PUBLIC cloth_sim_core ${catkin_LIBRARIES})
+add_dependencies(cloth_sim_ros ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg
+                 ${catkin_EXPORTED_TARGETS})
+
+add_executable(cloth_sim_node
+  src/node/cloth_sim_node_main.cpp
+  src/node/cloth_sim_node.cpp
+  src/node/node_inputs.cpp
+)
+target_link_libraries(cloth_sim_node cloth_sim_ros)
+
+add_executable(pin_teleop src/node/pin_teleop_main.cpp)
+target_link_libraries(pin_teleop cloth_sim_ros)
+
+install(TARGETS cloth_sim_ros cloth_sim_node pin_teleop
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(DIRECTORY launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+
+# ---------------------------------------------------------------------------------------------
+# Tests: gtest for the pure units (no master), rostest with a real master for the node.
+if(CATKIN_ENABLE_TESTING)
+  set(NODE_UNIT_TESTS
+    options_test conversions_test frame_resolver_test marker_builder_test step_monitor_test
+    pin_handles_test pin_teleop_test)
+  foreach(t ${NODE_UNIT_TESTS})
+    catkin_add_gtest(node_${t} test/node/${t}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+    target_link_libraries(node_${t} cloth_sim_ros GTest::gtest_main)
+    target_compile_definitions(node_${t} PRIVATE CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  endforeach()
+
+  find_package(rostest REQUIRED)
+  # Helpers of the rostests, compiled once for all of them (built only with the tests).
+  add_library(cloth_sim_rostest_util STATIC EXCLUDE_FROM_ALL test/node/ros_test_util.cpp)
+  target_link_libraries(cloth_sim_rostest_util PUBLIC cloth_sim_ros GTest::gtest)
+  target_compile_definitions(cloth_sim_rostest_util PUBLIC
+                             CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  set(NODE_ROSTESTS integration bad_input reconfigure)
+  foreach(t ${NODE_ROSTESTS})
+    add_rostest_gtest(node_${t}_test test/node/${t}.test test/node/${t}_test.cpp)
+    target_link_libraries(node_${t}_test cloth_sim_rostest_util)
+    target_compile_definitions(node_${t}_test PRIVATE
+                               CLOTH_SIM_NODE_EXE="$<TARGET_FILE:cloth_sim_node>")
+    add_dependencies(node_${t}_test cloth_sim_node)
+  endforeach()
+endif()

@@ -1,0 +1,111 @@
+/// @file cloth_sim_node.h
+/// cloth_sim_node: owns one core Simulation and schedules, converts and publishes. No physics.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <boost/thread/recursive_mutex.hpp>
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <dynamic_reconfigure/server.h>
+#include <ros/ros.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <cloth_sim/AddPin.h>
+#include <cloth_sim/ClothSimConfig.h>
+#include <cloth_sim/PinMove.h>
+#include <cloth_sim/RemovePin.h>
+#include <cloth_sim/RemoveSphere.h>
+#include <cloth_sim/SpawnSphere.h>
+
+#include "cloth_sim/core/scene.h"
+#include "cloth_sim/core/simulation.h"
+#include "cloth_sim/node/frame_resolver.h"
+#include "cloth_sim/node/log_throttle.h"
+#include "cloth_sim/node/marker_builder.h"
+#include "cloth_sim/node/options.h"
+#include "cloth_sim/node/pin_handles.h"
+#include "cloth_sim/node/step_monitor.h"
+
+namespace cloth_sim::node {
+
+/// The ROS shell around one Simulation (the public contract is in the README).
+///
+/// Threading: every callback (timers, subscriber, services, dynamic_reconfigure, drag handles)
+/// runs on the global callback queue, which main() spins with one thread; the Simulation is
+/// therefore only ever touched by one callback at a time, and an edit that needs a
+/// refactorization (a stiffness, the pin set) is applied between two steps. Only the tf2
+/// listener has a thread of its own, and it writes only into the (locked) tf2 buffer.
+class ClothSimNode {
+ public:
+  /// Builds the simulation of @p scene and starts serving. @p nh is the namespace of the
+  /// public names (cloth/...), @p pnh the private one (parameters, dynamic_reconfigure).
+  ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions options,
+               const SceneConfig& scene);
+
+ private:
+  // --- scheduling (cloth_sim_node.cpp) --------------------------------------------------------
+  void step(const ros::SteadyTimerEvent&);
+  void render(const ros::SteadyTimerEvent&);
+  void logSummary(const ros::SteadyTimerEvent&);
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
+  void onReconfigure(ClothSimConfig& config, std::uint32_t level);
+  ClothSimConfig currentConfig() const;
+  /// Back to the initial state; @p why goes to the log (throttled when @p automatic).
+  void resetSimulation(const std::string& why, bool automatic);
+  /// Removes the spheres that flew beyond ~sphere_cull_distance.
+  void cullSpheres();
+  /// Logs "<where>: <why>" as a warning, at most once per few seconds per distinct text.
+  void refuse(const std::string& where, const std::string& why);
+  /// Logs @p text as a warning at most once per few seconds per @p key.
+  void warnThrottled(const std::string& key, const std::string& text);
+
+  // --- inputs (node_inputs.cpp) ---------------------------------------------------------------
+  void onPinMove(const PinMove::ConstPtr& msg);
+  void onPinDragged(int pin_id, const geometry_msgs::PointStamped& target);
+  bool onSpawnSphere(SpawnSphere::Request& req, SpawnSphere::Response& res);
+  bool onRemoveSphere(RemoveSphere::Request& req, RemoveSphere::Response& res);
+  bool onAddPin(AddPin::Request& req, AddPin::Response& res);
+  bool onRemovePin(RemovePin::Request& req, RemovePin::Response& res);
+  bool onReset(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+  /// Runs @p action for service @p name: its result is the success message; an exception
+  /// becomes success = false with its text as the message (and a throttled warning).
+  template <class Response>
+  bool answer(const std::string& name, Response& res, const std::function<std::string()>& action);
+
+  NodeOptions options_;
+  std::string scene_name_;
+  Simulation sim_;
+  StepMonitor monitor_;
+  LogThrottle refusals_{5.0};
+  MarkerStyle style_;
+  ShownMarkers shown_;
+  Vec3 cloth_center_;   ///< m, centre of the initial positions
+  double ground_size_;  ///< m
+  std::uint64_t steps_since_reset_ = 0;
+  StepReport last_report_;
+  double window_sim_time_ = 0.0;  ///< s simulated since the last diagnostics report
+  ros::SteadyTime window_start_;
+
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_;
+  FrameResolver frames_;
+
+  ros::NodeHandle nh_, pnh_;
+  ros::Publisher markers_pub_, state_pub_;
+  ros::Subscriber pin_move_sub_;
+  std::vector<ros::ServiceServer> services_;
+  diagnostic_updater::Updater diagnostics_;
+  /// Given to the reconfigure server so updateConfig() and its own updates cannot interleave.
+  boost::recursive_mutex reconfigure_mutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<ClothSimConfig>> reconfigure_;
+  std::unique_ptr<PinHandles> pin_handles_;
+  ros::SteadyTimer step_timer_, render_timer_, diagnostics_timer_, summary_timer_;
+};
+
+}  // namespace cloth_sim::node

@@ -1,0 +1,55 @@
+/// @file conversions.h
+/// ROS messages <-> core types. Every function is pure; the ones that read a request check it
+/// and throw std::invalid_argument with a message that says what is wrong and why.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <geometry_msgs/Point.h>
+#include <geometry_msgs/Vector3.h>
+#include <std_msgs/Header.h>
+
+#include <cloth_sim/ClothState.h>
+#include <cloth_sim/PinInfo.h>
+#include <cloth_sim/SpawnSphere.h>
+#include <cloth_sim/SphereInfo.h>
+
+#include "cloth_sim/core/colliders.h"
+#include "cloth_sim/core/pins.h"
+#include "cloth_sim/core/simulation.h"
+
+namespace cloth_sim::node {
+
+Vec3 toVec3(const geometry_msgs::Point& p);
+Vec3 toVec3(const geometry_msgs::Vector3& v);
+geometry_msgs::Point toPointMsg(const Vec3& v);
+geometry_msgs::Vector3 toVector3Msg(const Vec3& v);
+
+/// Throws std::invalid_argument "<what> (x, y, z) is not finite" unless every coordinate is.
+void requireFinite(const Vec3& v, const std::string& what);
+
+/// The sphere a cloth/spawn_sphere request asks for, with @p center (m) and @p velocity (m/s)
+/// already transformed into ~frame_id. Refuses (std::invalid_argument) a radius that is not
+/// finite and > 0, a mass that is not finite and >= 0, a mass > 0 (dynamic spheres do not exist
+/// yet: only kinematic ones, mass 0) and a friction that is not finite and >= 0.
+SphereCollider sphereFromRequest(const SpawnSphere::Request& request, const Vec3& center,
+                                 const Vec3& velocity);
+
+/// A pin as cloth/state reports it; @p vertex_position (m) is where its particle is now.
+PinInfo toPinInfo(const Pin& pin, const Vec3& vertex_position);
+SphereInfo toSphereInfo(const SphereCollider& sphere);
+
+/// Node-side counters reported with each step in cloth/state.
+struct StepCounters {
+  std::uint64_t step = 0;                  ///< steps since start or the last reset
+  std::uint32_t consecutive_failures = 0;  ///< rolled-back steps in a row
+  std::uint32_t divergence_resets = 0;     ///< automatic resets since start
+};
+
+/// cloth/state after a step: @p report is what the step did, @p sim the simulation after it.
+/// The header is used as given (stamp and frame are the caller's).
+ClothState toClothState(const Simulation& sim, const StepReport& report,
+                        const StepCounters& counters, const std_msgs::Header& header);
+
+}  // namespace cloth_sim::node

@@ -1,0 +1,65 @@
+/// @file options.h
+/// Startup parameters of cloth_sim_node: read from the private namespace into a plain struct and
+/// validated in one place, every error naming its parameter (cartographer_ros style).
+#pragma once
+
+#include <string>
+
+#include <xmlrpcpp/XmlRpcValue.h>
+
+#include "cloth_sim/core/scene.h"
+
+namespace cloth_sim::node {
+
+/// What cloth_sim_node reads once at startup (the run-time knobs are dynamic_reconfigure's).
+struct NodeOptions {
+  /// ~scene: a scene YAML file, or the bare name of a shipped scene ("drape" means
+  /// <package>/config/scenes/drape.yaml). Required.
+  std::string scene;
+  /// ~frame_id: the frame the simulation lives in; every output is in it and every input is
+  /// transformed into it with tf2.
+  std::string frame_id = "world";
+  /// ~render_rate, Hz, in (0, 1000]: rate of cloth/markers (independent of the step rate).
+  double render_rate = 30.0;
+  /// ~solver: replaces the scene's solver when not empty (a name from solverNames()).
+  std::string solver;
+  /// ~iterations: replaces the scene's iterations per step when > 0; 0 keeps the scene's.
+  int iterations = 0;
+  /// ~max_rollbacks, >= 1: after this many rolled-back (diverged) steps in a row the node
+  /// resets the simulation to its initial state (see README, "Divergence").
+  int max_rollbacks = 30;
+  /// ~strain_color_scale, > 0: the strain drawn at full colour (0.05 = 5 %).
+  double strain_color_scale = 0.05;
+  /// ~shading: darken the cloth colours by a fixed light, so folds are visible in RViz.
+  bool shading = true;
+  /// ~sphere_cull_distance, m, > 0: a sphere farther than this from the cloth's initial centre
+  /// is removed (a thrown kinematic sphere flies on forever otherwise).
+  double sphere_cull_distance = 20.0;
+  /// ~max_interactive_pins, >= 0: pins get RViz drag handles while there are at most this many
+  /// (a fully pinned edge would bury the cloth under handles); 0 = never.
+  int max_interactive_pins = 16;
+  /// ~summary_period, s, >= 0: log a one-line summary of the simulation this often; 0 = never.
+  double summary_period = 0.0;
+};
+
+/// Reads the options from @p private_params, the private namespace as one XmlRpc struct (what
+/// `getParam("~", value)` gives; an invalid value stands for an empty namespace). Absent keys
+/// keep their defaults, an integer is accepted where a number is expected, and unknown keys are
+/// left alone (dynamic_reconfigure keeps its own parameters there too). Validates the result.
+/// Throws std::invalid_argument: "parameter '~render_rate': expected a number, got a string".
+NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params);
+
+/// Checks every field against its rule. Throws std::invalid_argument naming the parameter,
+/// its value and the rule, e.g. "parameter '~render_rate': -3 must be in (0, 1000] Hz".
+void validateNodeOptions(const NodeOptions& options);
+
+/// The file ~scene names: a bare name (no '/' and no ".yaml") becomes
+/// <scene_dir>/<name>.yaml; anything else is a path and is returned as given.
+std::string resolveScenePath(const std::string& scene, const std::string& scene_dir);
+
+/// Loads the scene file of @p options (resolved against @p scene_dir) and applies ~solver and
+/// ~iterations to it. Throws std::invalid_argument "parameter '~scene': <what is wrong>" for a
+/// missing or invalid file, or naming ~solver / ~iterations when the override is not usable.
+SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir);
+
+}  // namespace cloth_sim::node

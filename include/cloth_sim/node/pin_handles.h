@@ -1,0 +1,59 @@
+/// @file pin_handles.h
+/// RViz drag handles on pins (interactive_markers): a person moves a pin with the mouse.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <geometry_msgs/PointStamped.h>
+#include <interactive_markers/interactive_marker_server.h>
+#include <visualization_msgs/InteractiveMarker.h>
+
+#include "cloth_sim/core/pins.h"
+
+namespace cloth_sim::node {
+
+/// Name of the handle of pin @p pin_id: "pin_<id>".
+std::string pinHandleName(int pin_id);
+/// The pin id in a handle name, or -1 if @p name is not one.
+int pinIdFromHandleName(const std::string& name);
+
+/// The handle of one pin, centred on its target (m, in @p frame_id), @p scale m across:
+/// a sphere dragged freely in the view plane (MOVE_3D), arrows along x, y and z (MOVE_AXIS)
+/// and a disc for the horizontal plane (MOVE_PLANE, normal z). Visuals are filled in
+/// (interactive_markers::autoComplete), so the message is complete as built.
+visualization_msgs::InteractiveMarker makePinHandle(int pin_id, const Vec3& target,
+                                                    const std::string& frame_id, double scale);
+
+/// Keeps one handle per pin on an InteractiveMarkerServer and reports drags.
+///
+/// Runs on the caller's callback queue (no thread of its own), so drags are serialized with
+/// everything else the node does.
+class PinHandles {
+ public:
+  /// Called when a handle is dragged: the pin id and the new target (the handle's frame).
+  using MoveCallback = std::function<void(int pin_id, const geometry_msgs::PointStamped& target)>;
+
+  /// Serves handles on <topic_ns>/update etc. At most @p max_handles pins get handles: with
+  /// more pins than that, none has one (see NodeOptions::max_interactive_pins).
+  PinHandles(const std::string& topic_ns, std::string frame_id, int max_handles,
+             MoveCallback on_move);
+
+  /// Adds, removes and moves handles to match @p pins; publishes only when something changed.
+  void sync(const std::vector<Pin>& pins);
+
+ private:
+  void onFeedback(const visualization_msgs::InteractiveMarkerFeedbackConstPtr& feedback);
+
+  interactive_markers::InteractiveMarkerServer server_;
+  std::string frame_id_;
+  int max_handles_;
+  MoveCallback on_move_;
+  std::map<int, Vec3> shown_;  ///< pin id -> pose the server holds for its handle
+  bool over_limit_ = false;
+};
+
+}  // namespace cloth_sim::node

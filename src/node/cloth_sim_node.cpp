@@ -1,0 +1,259 @@
+#include "cloth_sim/node/cloth_sim_node.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include <visualization_msgs/MarkerArray.h>
+
+#include <cloth_sim/ClothState.h>
+
+#include "cloth_sim/core/strain_field.h"
+#include "cloth_sim/node/conversions.h"
+
+namespace cloth_sim::node {
+namespace {
+
+constexpr double kDiagnosticsPoll = 0.25;  ///< s; the updater publishes every ~diagnostic_period
+
+/// The family a reconfigure field sets.
+struct FamilyField {
+  SpringFamily family;
+  double ClothSimConfig::*value;
+};
+constexpr FamilyField kFamilyFields[] = {
+    {SpringFamily::kStructural, &ClothSimConfig::structural_stiffness},
+    {SpringFamily::kShear, &ClothSimConfig::shear_stiffness},
+    {SpringFamily::kBending, &ClothSimConfig::bending_stiffness},
+};
+
+}  // namespace
+
+ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions options,
+                           const SceneConfig& scene)
+    : options_(std::move(options)),
+      scene_name_(scene.name),
+      sim_(makeSimulation(scene)),
+      monitor_(sim_.model().time_step, options_.max_rollbacks),
+      tf_listener_(tf_buffer_),
+      frames_(tf_buffer_, options_.frame_id),
+      nh_(nh),
+      pnh_(pnh),
+      diagnostics_(nh, pnh) {
+  style_.strain_color_scale = options_.strain_color_scale;
+  style_.shading = options_.shading;
+  const Points& x = sim_.state().positions;
+  cloth_center_ = x.rowwise().mean();
+  const double extent = (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).maxCoeff();
+  ground_size_ = std::max(3.0, 3.0 * extent);
+
+  markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("cloth/markers", 2);
+  state_pub_ = nh_.advertise<ClothState>("cloth/state", 10);
+  pin_move_sub_ = nh_.subscribe("cloth/pin_move", 20, &ClothSimNode::onPinMove, this);
+  services_ = {
+      nh_.advertiseService("cloth/spawn_sphere", &ClothSimNode::onSpawnSphere, this),
+      nh_.advertiseService("cloth/remove_sphere", &ClothSimNode::onRemoveSphere, this),
+      nh_.advertiseService("cloth/add_pin", &ClothSimNode::onAddPin, this),
+      nh_.advertiseService("cloth/remove_pin", &ClothSimNode::onRemovePin, this),
+      nh_.advertiseService("cloth/reset", &ClothSimNode::onReset, this),
+  };
+
+  diagnostics_.setHardwareID("cloth_sim:" + scene_name_);
+  diagnostics_.add("simulation step", this, &ClothSimNode::diagnose);
+
+  // The scene (with ~solver / ~iterations) gives the initial values; the server then reports
+  // them and calls back on every change.
+  reconfigure_ =
+      std::make_unique<dynamic_reconfigure::Server<ClothSimConfig>>(reconfigure_mutex_, pnh_);
+  reconfigure_->updateConfig(currentConfig());
+  reconfigure_->setCallback(
+      [this](ClothSimConfig& config, std::uint32_t level) { onReconfigure(config, level); });
+
+  if (options_.max_interactive_pins > 0) {
+    pin_handles_ = std::make_unique<PinHandles>(
+        "cloth/pin_handles", options_.frame_id, options_.max_interactive_pins,
+        [this](int id, const geometry_msgs::PointStamped& target) { onPinDragged(id, target); });
+    pin_handles_->sync(sim_.pins().pins());
+  }
+
+  window_start_ = ros::SteadyTime::now();
+  const double h = sim_.model().time_step;
+  step_timer_ = nh_.createSteadyTimer(ros::WallDuration(h), &ClothSimNode::step, this);
+  render_timer_ = nh_.createSteadyTimer(ros::WallDuration(1.0 / options_.render_rate),
+                                        &ClothSimNode::render, this);
+  diagnostics_timer_ =
+      nh_.createSteadyTimer(ros::WallDuration(kDiagnosticsPoll),
+                            [this](const ros::SteadyTimerEvent&) { diagnostics_.update(); });
+  if (options_.summary_period > 0.0) {
+    summary_timer_ = nh_.createSteadyTimer(ros::WallDuration(options_.summary_period),
+                                           &ClothSimNode::logSummary, this);
+  }
+  ROS_INFO("cloth_sim_node: scene '%s' (%d particles, %zu springs, %zu pins), solver %s with "
+           "%d iterations, step %.4f s, markers at %.1f Hz in frame '%s'",
+           scene_name_.c_str(), sim_.model().particleCount(), sim_.model().springs.size(),
+           sim_.pins().size(), sim_.solver().name(), sim_.solverSettings().max_iterations, h,
+           options_.render_rate, options_.frame_id.c_str());
+}
+
+void ClothSimNode::step(const ros::SteadyTimerEvent&) {
+  last_report_ = sim_.step();
+  ++steps_since_reset_;
+  const bool rolled_back = last_report_.status != StepStatus::kOk;
+  if (rolled_back) warnThrottled("rolled back", "step: " + last_report_.message);
+  else window_sim_time_ += sim_.model().time_step;
+  const bool must_reset = monitor_.record(rolled_back, last_report_.wall_time);
+
+  std_msgs::Header header;
+  header.stamp = ros::Time::now();
+  header.frame_id = options_.frame_id;
+  const StepCounters counters{steps_since_reset_, monitor_.consecutiveFailures(),
+                              monitor_.divergenceResets()};
+  state_pub_.publish(toClothState(sim_, last_report_, counters, header));
+
+  if (must_reset) {
+    char why[160];
+    std::snprintf(why, sizeof why,
+                  "%d steps in a row were rolled back (~max_rollbacks); the solver '%s' and the "
+                  "reconfigured values are kept",
+                  options_.max_rollbacks, sim_.solver().name());
+    resetSimulation(why, /*automatic=*/true);
+  }
+  cullSpheres();
+}
+
+void ClothSimNode::render(const ros::SteadyTimerEvent&) {
+  if (pin_handles_) pin_handles_->sync(sim_.pins().pins());
+  if (markers_pub_.getNumSubscribers() == 0) return;
+  const Points& x = sim_.state().positions;
+  const Eigen::VectorXd strain = vertexStrain(sim_.model(), x);
+  const MarkerScene scene{x,
+                          sim_.model().triangles,
+                          strain,
+                          sim_.pins().pins(),
+                          sim_.colliders().spheres(),
+                          sim_.colliders().ground(),
+                          cloth_center_,
+                          ground_size_};
+  std_msgs::Header header;
+  header.stamp = ros::Time::now();
+  header.frame_id = options_.frame_id;
+  MarkerBuild build = buildMarkers(scene, style_, header, shown_);
+  if (build.sanitized > 0) {
+    refuse("cloth/markers", std::to_string(build.sanitized) +
+                                " non-finite numbers in the state were drawn as 0");
+  }
+  shown_ = std::move(build.shown);
+  markers_pub_.publish(build.markers);
+}
+
+void ClothSimNode::resetSimulation(const std::string& why, bool automatic) {
+  sim_.reset();
+  steps_since_reset_ = 0;
+  monitor_.clearFailures();
+  const std::string text =
+      "simulation reset to the initial state of scene '" + scene_name_ + "': " + why;
+  if (automatic) warnThrottled("automatic reset", text);
+  else ROS_INFO("%s", text.c_str());
+}
+
+void ClothSimNode::cullSpheres() {
+  std::vector<int> gone;
+  for (const SphereCollider& s : sim_.colliders().spheres()) {
+    if ((s.center - cloth_center_).norm() > options_.sphere_cull_distance) gone.push_back(s.id);
+  }
+  for (int id : gone) {
+    sim_.removeSphere(id);
+    ROS_INFO("sphere %d removed: farther than ~sphere_cull_distance = %g m from the cloth", id,
+             options_.sphere_cull_distance);
+  }
+}
+
+void ClothSimNode::refuse(const std::string& where, const std::string& why) {
+  const std::string text = where + ": " + why;
+  warnThrottled(text, text);
+}
+
+void ClothSimNode::warnThrottled(const std::string& key, const std::string& text) {
+  if (refusals_.allow(key, ros::WallTime::now().toSec())) ROS_WARN("%s", text.c_str());
+}
+
+void ClothSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
+  const ros::SteadyTime now = ros::SteadyTime::now();
+  const double wall = (now - window_start_).toSec();
+  const double real_time_factor = wall > 0.0 ? window_sim_time_ / wall : 0.0;
+  window_start_ = now;
+  window_sim_time_ = 0.0;
+  const StepWindow w = monitor_.takeWindow();
+  const HealthReport health = assess(w);
+  status.summary(static_cast<std::uint8_t>(health.level), health.message);
+  status.add("scene", scene_name_);
+  status.add("solver", sim_.solver().name());
+  status.add("iterations per step", sim_.solverSettings().max_iterations);
+  status.addf("step budget (ms)", "%.3f", 1e3 * w.budget);
+  status.addf("mean step time (ms)", "%.3f", 1e3 * w.mean_time);
+  status.addf("max step time (ms)", "%.3f", 1e3 * w.max_time);
+  status.add("steps", w.steps);
+  status.add("overruns", w.overruns);
+  status.add("rolled-back steps", w.rollbacks);
+  status.addf("real-time factor", "%.3f", real_time_factor);
+  status.add("total overruns", monitor_.totalOverruns());
+  status.add("total rolled-back steps", monitor_.totalRollbacks());
+  status.add("consecutive rolled-back steps", monitor_.consecutiveFailures());
+  status.add("divergence resets", monitor_.divergenceResets());
+  status.addf("sim time (s)", "%.3f", sim_.state().time);
+  status.add("pins", sim_.pins().size());
+  status.add("spheres", sim_.colliders().spheres().size());
+}
+
+void ClothSimNode::logSummary(const ros::SteadyTimerEvent&) {
+  const StepReport& r = last_report_;
+  ROS_INFO("t = %7.2f s | %s %d it | step %.2f ms of %.2f | max strain %.2f %% | energy %.4f J "
+           "| pins %zu, spheres %zu | %s",
+           sim_.state().time, sim_.solver().name(), r.iterations, 1e3 * r.wall_time,
+           1e3 * sim_.model().time_step, 100.0 * r.max_strain, sim_.totalEnergy(),
+           sim_.pins().size(), sim_.colliders().spheres().size(), stepStatusName(r.status));
+}
+
+ClothSimConfig ClothSimNode::currentConfig() const {
+  ClothSimConfig c;
+  for (const FamilyField& f : kFamilyFields) c.*f.value = sim_.model().familyStiffness(f.family);
+  c.damping = sim_.model().damping;
+  c.solver = sim_.solver().name();
+  c.iterations = sim_.solverSettings().max_iterations;
+  return c;
+}
+
+void ClothSimNode::onReconfigure(ClothSimConfig& config, std::uint32_t /*level*/) {
+  // Each field is applied on its own; a refused one is put back to the value in use, which the
+  // server then reports to every client.
+  const ClothSimConfig current = currentConfig();
+  auto apply = [&](const char* name, bool changed, const std::function<void()>& set,
+                   const std::function<void()>& revert) {
+    if (!changed) return;
+    try {
+      set();
+      ROS_INFO("reconfigure: %s changed", name);
+    } catch (const std::exception& e) {
+      refuse(std::string("reconfigure ") + name, e.what());
+      revert();
+    }
+  };
+  for (const FamilyField& f : kFamilyFields) {
+    const std::string name = std::string(springFamilyName(f.family)) + "_stiffness";
+    apply(name.c_str(), config.*f.value != current.*f.value,
+          [&] { sim_.setFamilyStiffness(f.family, config.*f.value); },
+          [&] { config.*f.value = current.*f.value; });
+  }
+  apply("damping", config.damping != current.damping, [&] { sim_.setDamping(config.damping); },
+        [&] { config.damping = current.damping; });
+  apply("solver", config.solver != current.solver, [&] { sim_.setSolver(config.solver); },
+        [&] { config.solver = current.solver; });
+  apply("iterations", config.iterations != current.iterations,
+        [&] {
+          SolverSettings settings = sim_.solverSettings();
+          settings.max_iterations = config.iterations;
+          sim_.setSolverSettings(settings);
+        },
+        [&] { config.iterations = current.iterations; });
+}
+
+}  // namespace cloth_sim::node

@@ -1,0 +1,116 @@
+#include "cloth_sim/node/conversions.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace cloth_sim::node {
+namespace {
+
+std::string str(double value) {
+  std::ostringstream s;
+  s << value;
+  return s.str();
+}
+
+/// A message with x, y, z fields holding @p v.
+template <class Msg>
+Msg xyzMsg(const Vec3& v) {
+  Msg m;
+  m.x = v.x();
+  m.y = v.y();
+  m.z = v.z();
+  return m;
+}
+
+}  // namespace
+
+Vec3 toVec3(const geometry_msgs::Point& p) { return Vec3(p.x, p.y, p.z); }
+Vec3 toVec3(const geometry_msgs::Vector3& v) { return Vec3(v.x, v.y, v.z); }
+
+geometry_msgs::Point toPointMsg(const Vec3& v) { return xyzMsg<geometry_msgs::Point>(v); }
+geometry_msgs::Vector3 toVector3Msg(const Vec3& v) { return xyzMsg<geometry_msgs::Vector3>(v); }
+
+void requireFinite(const Vec3& v, const std::string& what) {
+  if (!v.allFinite()) {
+    throw std::invalid_argument(what + " (" + str(v.x()) + ", " + str(v.y()) + ", " +
+                                str(v.z()) + ") is not finite");
+  }
+}
+
+SphereCollider sphereFromRequest(const SpawnSphere::Request& request, const Vec3& center,
+                                 const Vec3& velocity) {
+  if (!std::isfinite(request.radius) || request.radius <= 0.0) {
+    throw std::invalid_argument("radius " + str(request.radius) + " m must be finite and > 0");
+  }
+  if (!std::isfinite(request.mass) || request.mass < 0.0) {
+    throw std::invalid_argument("mass " + str(request.mass) +
+                                " kg must be finite and >= 0 (0 = kinematic)");
+  }
+  if (request.mass > 0.0) {
+    throw std::invalid_argument("mass " + str(request.mass) +
+                                " kg: dynamic spheres are not supported yet; use mass 0 for a "
+                                "kinematic sphere (it keeps its velocity whatever it hits)");
+  }
+  if (!std::isfinite(request.friction) || request.friction < 0.0) {
+    throw std::invalid_argument("friction " + str(request.friction) + " must be finite and >= 0");
+  }
+  requireFinite(center, "center");
+  requireFinite(velocity, "velocity");
+  SphereCollider sphere;
+  sphere.center = center;
+  sphere.radius = request.radius;
+  sphere.velocity = velocity;
+  sphere.friction = request.friction;
+  return sphere;
+}
+
+PinInfo toPinInfo(const Pin& pin, const Vec3& vertex_position) {
+  PinInfo info;
+  info.id = pin.id;
+  info.vertex = pin.vertex;
+  info.target = toPointMsg(pin.target);
+  info.position = toPointMsg(vertex_position);
+  info.stiffness = pin.stiffness;
+  return info;
+}
+
+SphereInfo toSphereInfo(const SphereCollider& sphere) {
+  SphereInfo info;
+  info.id = sphere.id;
+  info.center = toPointMsg(sphere.center);
+  info.radius = sphere.radius;
+  info.velocity = toVector3Msg(sphere.velocity);
+  info.friction = sphere.friction;
+  return info;
+}
+
+ClothState toClothState(const Simulation& sim, const StepReport& report,
+                        const StepCounters& counters, const std_msgs::Header& header) {
+  ClothState s;
+  s.header = header;
+  s.step = counters.step;
+  s.sim_time = sim.state().time;
+  s.time_step = sim.model().time_step;
+  s.step_wall_time = report.wall_time;
+  s.solve_wall_time = report.solve_time;
+  s.solver = sim.solver().name();
+  s.iterations = report.iterations;
+  s.convergence = report.convergence;
+  s.converged = report.converged;
+  s.max_strain = report.max_strain;
+  s.energy = sim.totalEnergy();
+  s.contacts = report.contacts;
+  s.status = stepStatusName(report.status);
+  s.message = report.message;
+  s.consecutive_failures = counters.consecutive_failures;
+  s.divergence_resets = counters.divergence_resets;
+  const Points& x = sim.state().positions;
+  for (const Pin& pin : sim.pins().pins()) s.pins.push_back(toPinInfo(pin, x.col(pin.vertex)));
+  for (const SphereCollider& sphere : sim.colliders().spheres()) {
+    s.spheres.push_back(toSphereInfo(sphere));
+  }
+  return s;
+}
+
+}  // namespace cloth_sim::node

@@ -1,0 +1,184 @@
+#include "cloth_sim/node/marker_builder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Geometry>
+
+namespace cloth_sim::node {
+namespace {
+
+using visualization_msgs::Marker;
+
+/// Replaces non-finite numbers by 0 and counts them.
+class Sanitizer {
+ public:
+  double operator()(double v) {
+    if (std::isfinite(v)) return v;
+    ++count_;
+    return 0.0;
+  }
+  geometry_msgs::Point point(const Vec3& v) {
+    geometry_msgs::Point p;
+    p.x = (*this)(v.x());
+    p.y = (*this)(v.y());
+    p.z = (*this)(v.z());
+    return p;
+  }
+  int count() const { return count_; }
+
+ private:
+  int count_ = 0;
+};
+
+std_msgs::ColorRGBA rgba(double r, double g, double b, double a) {
+  std_msgs::ColorRGBA c;
+  c.r = static_cast<float>(r);
+  c.g = static_cast<float>(g);
+  c.b = static_cast<float>(b);
+  c.a = static_cast<float>(a);
+  return c;
+}
+
+Marker makeMarker(const std_msgs::Header& header, const char* ns, int id, int type) {
+  Marker m;
+  m.header = header;
+  m.ns = ns;
+  m.id = id;
+  m.type = type;
+  m.action = Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = m.scale.y = m.scale.z = 1.0;
+  return m;
+}
+
+Marker makeDelete(const std_msgs::Header& header, const char* ns, int id) {
+  Marker m = makeMarker(header, ns, id, Marker::SPHERE);
+  m.action = Marker::DELETE;
+  return m;
+}
+
+Marker makeSphere(const std_msgs::Header& header, const char* ns, int id, const Vec3& center,
+                  double diameter, const std_msgs::ColorRGBA& color, Sanitizer& sanitize) {
+  Marker m = makeMarker(header, ns, id, Marker::SPHERE);
+  m.pose.position = sanitize.point(center);
+  m.scale.x = m.scale.y = m.scale.z = sanitize(diameter);
+  m.color = color;
+  return m;
+}
+
+/// Area-weighted vertex normals (unit, or zero where undefined).
+Points vertexNormals(const Points& x, const Eigen::Matrix3Xi& triangles) {
+  Points normals = Points::Zero(3, x.cols());
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    const Vec3 a = x.col(triangles(0, t)), b = x.col(triangles(1, t)), c = x.col(triangles(2, t));
+    const Vec3 n = (b - a).cross(c - a);
+    if (!n.allFinite()) continue;
+    for (int k = 0; k < 3; ++k) normals.col(triangles(k, t)) += n;
+  }
+  for (Eigen::Index i = 0; i < normals.cols(); ++i) {
+    const double norm = normals.col(i).norm();
+    if (norm > 0.0) normals.col(i) /= norm;
+  }
+  return normals;
+}
+
+void checkSizes(const MarkerScene& scene) {
+  const Eigen::Index n = scene.positions.cols();
+  if (scene.strain.size() != n) {
+    throw std::invalid_argument("marker builder: " + std::to_string(scene.strain.size()) +
+                                " strains for " + std::to_string(n) + " particles");
+  }
+  if (scene.triangles.size() > 0 &&
+      (scene.triangles.minCoeff() < 0 || scene.triangles.maxCoeff() >= n)) {
+    throw std::invalid_argument("marker builder: a triangle index is outside [0, " +
+                                std::to_string(n) + ")");
+  }
+}
+
+Marker makeCloth(const MarkerScene& scene, const MarkerStyle& style,
+                 const std_msgs::Header& header, Sanitizer& sanitize) {
+  Marker m = makeMarker(header, kClothNs, 0, Marker::TRIANGLE_LIST);
+  const Points normals =
+      style.shading ? vertexNormals(scene.positions, scene.triangles) : Points();
+  const Eigen::Index count = 3 * scene.triangles.cols();
+  m.points.reserve(count);
+  m.colors.reserve(count);
+  for (Eigen::Index t = 0; t < scene.triangles.cols(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const int i = scene.triangles(k, t);
+      m.points.push_back(sanitize.point(scene.positions.col(i)));
+      std_msgs::ColorRGBA c = strainColor(scene.strain[i], style.strain_color_scale);
+      if (style.shading) {
+        const auto f = static_cast<float>(shadeFactor(normals.col(i)));
+        c.r *= f;
+        c.g *= f;
+        c.b *= f;
+      }
+      m.colors.push_back(c);
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+std_msgs::ColorRGBA strainColor(double strain, double scale) {
+  const Vec3 compressed(0.23, 0.30, 0.75), rest(0.87, 0.87, 0.87), stretched(0.71, 0.02, 0.15);
+  double u = std::isfinite(strain) && scale > 0.0 ? strain / scale : 0.0;
+  u = std::clamp(u, -1.0, 1.0);
+  const Vec3 c = u < 0.0 ? rest + (-u) * (compressed - rest) : rest + u * (stretched - rest);
+  return rgba(c.x(), c.y(), c.z(), 1.0);
+}
+
+double shadeFactor(const Vec3& normal) {
+  static const Vec3 light = Vec3(0.3, 0.4, 0.87).normalized();
+  const double lambert = std::abs(normal.dot(light));
+  return 0.45 + 0.55 * (std::isfinite(lambert) ? std::min(lambert, 1.0) : 0.0);
+}
+
+MarkerBuild buildMarkers(const MarkerScene& scene, const MarkerStyle& style,
+                         const std_msgs::Header& header, const ShownMarkers& before) {
+  checkSizes(scene);
+  Sanitizer sanitize;
+  MarkerBuild build;
+  auto& out = build.markers.markers;
+  out.push_back(makeCloth(scene, style, header, sanitize));
+
+  for (const Pin& pin : scene.pins) {
+    const auto color = pin.isHard() ? rgba(1.0, 0.55, 0.0, 1.0) : rgba(0.95, 0.85, 0.1, 1.0);
+    out.push_back(
+        makeSphere(header, kPinsNs, pin.id, pin.target, style.pin_diameter, color, sanitize));
+    build.shown.pins.insert(pin.id);
+  }
+  for (const SphereCollider& s : scene.spheres) {
+    out.push_back(makeSphere(header, kSpheresNs, s.id, s.center, 2.0 * s.radius,
+                             rgba(0.25, 0.55, 0.35, 0.9), sanitize));
+    build.shown.spheres.insert(s.id);
+  }
+  if (scene.ground.enabled) {
+    constexpr double kThickness = 0.01;  // m; its top face is the ground plane
+    Marker g = makeMarker(header, kGroundNs, 0, Marker::CUBE);
+    g.pose.position = sanitize.point(Vec3(scene.ground_center.x(), scene.ground_center.y(),
+                                          scene.ground.height - 0.5 * kThickness));
+    g.scale.x = g.scale.y = sanitize(scene.ground_size);
+    g.scale.z = kThickness;
+    g.color = rgba(0.75, 0.75, 0.7, 1.0);  // light: lit at a grazing angle it still shows
+    out.push_back(g);
+    build.shown.ground = true;
+  }
+
+  for (int id : before.pins) {
+    if (!build.shown.pins.count(id)) out.push_back(makeDelete(header, kPinsNs, id));
+  }
+  for (int id : before.spheres) {
+    if (!build.shown.spheres.count(id)) out.push_back(makeDelete(header, kSpheresNs, id));
+  }
+  if (before.ground && !build.shown.ground) out.push_back(makeDelete(header, kGroundNs, 0));
+  build.sanitized = sanitize.count();
+  return build;
+}
+
+}  // namespace cloth_sim::node

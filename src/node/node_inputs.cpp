@@ -1,0 +1,112 @@
+// The inputs of cloth_sim_node: the pin_move topic, the services and the drag handles. Each
+// checks what it is given, refuses what it cannot use with a message saying why, and leaves
+// the simulation untouched when it refuses (the core edits validate before they change).
+#include <sstream>
+
+#include "cloth_sim/node/cloth_sim_node.h"
+#include "cloth_sim/node/conversions.h"
+
+namespace cloth_sim::node {
+namespace {
+
+std::string str(const Vec3& v) {
+  std::ostringstream s;
+  s << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return s.str();
+}
+
+}  // namespace
+
+template <class Response>
+bool ClothSimNode::answer(const std::string& name, Response& res,
+                          const std::function<std::string()>& action) {
+  try {
+    res.message = action();
+    res.success = true;
+    ROS_INFO("%s: %s", name.c_str(), res.message.c_str());
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = e.what();
+    refuse(name, res.message);
+  }
+  return true;  // a refusal is an answer, not a transport failure
+}
+
+void ClothSimNode::onPinMove(const PinMove::ConstPtr& msg) {
+  try {
+    sim_.movePin(msg->id, frames_.point(msg->target, "target"));
+  } catch (const std::exception& e) {
+    refuse("cloth/pin_move", "pin " + std::to_string(msg->id) + ": " + e.what());
+  }
+}
+
+void ClothSimNode::onPinDragged(int pin_id, const geometry_msgs::PointStamped& target) {
+  try {
+    sim_.movePin(pin_id, frames_.point(target, "target"));
+  } catch (const std::exception& e) {
+    refuse("cloth/pin_handles", "pin " + std::to_string(pin_id) + ": " + e.what());
+  }
+}
+
+bool ClothSimNode::onSpawnSphere(SpawnSphere::Request& req, SpawnSphere::Response& res) {
+  res.id = -1;
+  return answer("cloth/spawn_sphere", res, [&] {
+    const Vec3 center = frames_.point(req.center, "center");
+    const Vec3 velocity = frames_.vector(req.center.header, req.velocity, "velocity");
+    const SphereCollider sphere = sphereFromRequest(req, center, velocity);
+    const double distance = (center - cloth_center_).norm();
+    if (distance > options_.sphere_cull_distance) {
+      std::ostringstream s;
+      s << "center " << str(center) << " m is " << distance << " m from the cloth, beyond "
+        << "~sphere_cull_distance = " << options_.sphere_cull_distance << " m";
+      throw std::invalid_argument(s.str());
+    }
+    res.id = sim_.addSphere(sphere);
+    return "sphere " + std::to_string(res.id) + " at " + str(center) + " m, radius " +
+           std::to_string(sphere.radius) + " m, velocity " + str(velocity) + " m/s in '" +
+           options_.frame_id + "'";
+  });
+}
+
+bool ClothSimNode::onRemoveSphere(RemoveSphere::Request& req, RemoveSphere::Response& res) {
+  return answer("cloth/remove_sphere", res, [&] {
+    sim_.removeSphere(req.id);
+    return "sphere " + std::to_string(req.id) + " removed";
+  });
+}
+
+bool ClothSimNode::onAddPin(AddPin::Request& req, AddPin::Response& res) {
+  res.id = -1;
+  res.vertex = -1;
+  return answer("cloth/add_pin", res, [&] {
+    const int n = sim_.model().particleCount();
+    int vertex = req.vertex;
+    if (vertex == -1) {
+      vertex = sim_.nearestParticle(frames_.point(req.point, "point"));
+    } else if (vertex < 0 || vertex >= n) {
+      throw std::invalid_argument("vertex " + std::to_string(vertex) + " is out of range [0, " +
+                                  std::to_string(n) + ") (-1 = the one nearest to 'point')");
+    }
+    res.id = sim_.addPinHere(vertex, req.stiffness);
+    res.vertex = vertex;
+    return "pin " + std::to_string(res.id) + " holds vertex " + std::to_string(vertex) +
+           " at " + str(sim_.state().positions.col(vertex)) + " m" +
+           (req.stiffness > 0.0 ? " (soft, " + std::to_string(req.stiffness) + " N/m)" : "");
+  });
+}
+
+bool ClothSimNode::onRemovePin(RemovePin::Request& req, RemovePin::Response& res) {
+  return answer("cloth/remove_pin", res, [&] {
+    sim_.removePin(req.id);
+    return "pin " + std::to_string(req.id) + " removed";
+  });
+}
+
+bool ClothSimNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  return answer("cloth/reset", res, [&] {
+    resetSimulation("requested on cloth/reset", /*automatic=*/false);
+    return "reset to the initial state of scene '" + scene_name_ + "'";
+  });
+}
+
+}  // namespace cloth_sim::node

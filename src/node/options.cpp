@@ -1,0 +1,172 @@
+#include "cloth_sim/node/options.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "cloth_sim/core/solver.h"
+
+namespace cloth_sim::node {
+namespace {
+
+[[noreturn]] void fail(const std::string& param, const std::string& problem) {
+  throw std::invalid_argument("parameter '~" + param + "': " + problem);
+}
+
+const char* typeName(XmlRpc::XmlRpcValue::Type type) {
+  switch (type) {
+    case XmlRpc::XmlRpcValue::TypeBoolean: return "a boolean";
+    case XmlRpc::XmlRpcValue::TypeInt: return "an integer";
+    case XmlRpc::XmlRpcValue::TypeDouble: return "a number";
+    case XmlRpc::XmlRpcValue::TypeString: return "a string";
+    case XmlRpc::XmlRpcValue::TypeArray: return "a list";
+    case XmlRpc::XmlRpcValue::TypeStruct: return "a map";
+    default: return "an unsupported value";
+  }
+}
+
+/// Typed access to the private namespace; each getter leaves @p out alone when the key is absent.
+class ParamReader {
+ public:
+  explicit ParamReader(XmlRpc::XmlRpcValue params) : params_(std::move(params)) {}
+
+  void get(const std::string& key, std::string& out) {
+    if (XmlRpc::XmlRpcValue* v = find(key)) {
+      expect(key, *v, XmlRpc::XmlRpcValue::TypeString, "a string");
+      out = static_cast<std::string&>(*v);
+    }
+  }
+  void get(const std::string& key, double& out) {
+    if (XmlRpc::XmlRpcValue* v = find(key)) {
+      if (v->getType() == XmlRpc::XmlRpcValue::TypeInt) {
+        out = static_cast<int&>(*v);
+        return;
+      }
+      expect(key, *v, XmlRpc::XmlRpcValue::TypeDouble, "a number");
+      out = static_cast<double&>(*v);
+    }
+  }
+  void get(const std::string& key, int& out) {
+    if (XmlRpc::XmlRpcValue* v = find(key)) {
+      expect(key, *v, XmlRpc::XmlRpcValue::TypeInt, "an integer");
+      out = static_cast<int&>(*v);
+    }
+  }
+  void get(const std::string& key, bool& out) {
+    if (XmlRpc::XmlRpcValue* v = find(key)) {
+      expect(key, *v, XmlRpc::XmlRpcValue::TypeBoolean, "true or false");
+      out = static_cast<bool&>(*v);
+    }
+  }
+
+ private:
+  XmlRpc::XmlRpcValue* find(const std::string& key) {
+    if (params_.getType() != XmlRpc::XmlRpcValue::TypeStruct || !params_.hasMember(key)) {
+      return nullptr;
+    }
+    return &params_[key];
+  }
+  static void expect(const std::string& key, const XmlRpc::XmlRpcValue& v,
+                     XmlRpc::XmlRpcValue::Type type, const char* wanted) {
+    if (v.getType() != type) {
+      fail(key, std::string("expected ") + wanted + ", got " + typeName(v.getType()));
+    }
+  }
+
+  XmlRpc::XmlRpcValue params_;
+};
+
+template <class T>
+std::string str(const T& value) {
+  std::ostringstream s;
+  s << value;
+  return s.str();
+}
+
+}  // namespace
+
+NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
+  if (private_params.valid() &&
+      private_params.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
+    throw std::invalid_argument("the private namespace '~' must hold named parameters");
+  }
+  ParamReader read(private_params);
+  NodeOptions o;
+  read.get("scene", o.scene);
+  read.get("frame_id", o.frame_id);
+  read.get("render_rate", o.render_rate);
+  read.get("solver", o.solver);
+  read.get("iterations", o.iterations);
+  read.get("max_rollbacks", o.max_rollbacks);
+  read.get("strain_color_scale", o.strain_color_scale);
+  read.get("shading", o.shading);
+  read.get("sphere_cull_distance", o.sphere_cull_distance);
+  read.get("max_interactive_pins", o.max_interactive_pins);
+  read.get("summary_period", o.summary_period);
+  validateNodeOptions(o);
+  return o;
+}
+
+void validateNodeOptions(const NodeOptions& o) {
+  if (o.scene.empty()) {
+    fail("scene", "is required: a scene YAML file or the name of a shipped scene "
+                  "(hanging, drape, trampoline, stiff)");
+  }
+  if (o.frame_id.empty() || o.frame_id.front() == '/') {
+    fail("frame_id", "'" + o.frame_id + "' must be a non-empty tf2 frame name without a "
+                     "leading '/'");
+  }
+  if (!std::isfinite(o.render_rate) || o.render_rate <= 0.0 || o.render_rate > 1000.0) {
+    fail("render_rate", str(o.render_rate) + " must be in (0, 1000] Hz");
+  }
+  if (!o.solver.empty()) {
+    try {
+      makeSolver(o.solver);
+    } catch (const std::invalid_argument& e) {
+      fail("solver", e.what());
+    }
+  }
+  if (o.iterations < 0 || o.iterations > 100000) {
+    fail("iterations", str(o.iterations) + " must be in [0, 100000] (0 = the scene's)");
+  }
+  if (o.max_rollbacks < 1) fail("max_rollbacks", str(o.max_rollbacks) + " must be >= 1");
+  if (!std::isfinite(o.strain_color_scale) || o.strain_color_scale <= 0.0) {
+    fail("strain_color_scale", str(o.strain_color_scale) + " must be finite and > 0");
+  }
+  if (!std::isfinite(o.sphere_cull_distance) || o.sphere_cull_distance <= 0.0) {
+    fail("sphere_cull_distance", str(o.sphere_cull_distance) + " m must be finite and > 0");
+  }
+  if (o.max_interactive_pins < 0) {
+    fail("max_interactive_pins", str(o.max_interactive_pins) + " must be >= 0 (0 = none)");
+  }
+  if (!std::isfinite(o.summary_period) || o.summary_period < 0.0) {
+    fail("summary_period", str(o.summary_period) + " s must be finite and >= 0 (0 = off)");
+  }
+}
+
+std::string resolveScenePath(const std::string& scene, const std::string& scene_dir) {
+  const bool is_name = scene.find('/') == std::string::npos &&
+                       (scene.size() < 5 || scene.compare(scene.size() - 5, 5, ".yaml") != 0);
+  return is_name ? scene_dir + "/" + scene + ".yaml" : scene;
+}
+
+SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir) {
+  SceneConfig scene;
+  try {
+    scene = loadSceneFile(resolveScenePath(options.scene, scene_dir));
+  } catch (const SceneError& e) {
+    fail("scene", e.what());
+  }
+  if (!options.solver.empty()) scene.options.solver = options.solver;
+  if (options.iterations > 0) {
+    scene.options.settings.max_iterations = options.iterations;
+    try {
+      scene.options.settings.validate();
+    } catch (const std::invalid_argument& e) {
+      fail("iterations", e.what());
+    }
+  }
+  return scene;
+}
+
+}  // namespace cloth_sim::node

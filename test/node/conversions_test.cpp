@@ -1,0 +1,143 @@
+// Conversions between ROS messages and core types, no master.
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "cloth_sim/core/scene.h"
+#include "cloth_sim/node/conversions.h"
+#include "error_of.h"
+
+namespace cloth_sim::node {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+using test::errorOf;
+
+SpawnSphere::Request sphereRequest(double radius, double mass = 0.0, double friction = 0.0) {
+  SpawnSphere::Request r;
+  r.radius = radius;
+  r.mass = mass;
+  r.friction = friction;
+  return r;
+}
+
+TEST(Conversions, PointsAndVectorsRoundTrip) {
+  const Vec3 v(1.5, -2.25, 3.125);
+  EXPECT_EQ(toVec3(toPointMsg(v)), v);
+  EXPECT_EQ(toVec3(toVector3Msg(v)), v);
+  EXPECT_EQ(toPointMsg(v).y, -2.25);
+}
+
+TEST(Conversions, RequireFiniteNamesTheValueAndWhatItIs) {
+  EXPECT_EQ(errorOf([] { requireFinite(Vec3(1, 2, 3), "target"); }), "");
+  const std::string e = errorOf([] { requireFinite(Vec3(kNaN, 0, 0), "target"); });
+  EXPECT_NE(e.find("target (nan, 0, 0) is not finite"), std::string::npos) << e;
+  EXPECT_NE(errorOf([] { requireFinite(Vec3(0, kInf, 0), "center"); }).find("center"),
+            std::string::npos);
+}
+
+TEST(Conversions, AValidSphereRequestBecomesAKinematicSphere) {
+  const SphereCollider s =
+      sphereFromRequest(sphereRequest(0.2, 0.0, 0.4), Vec3(1, 2, 3), Vec3(0, 0, -1));
+  EXPECT_EQ(s.center, Vec3(1, 2, 3));
+  EXPECT_EQ(s.velocity, Vec3(0, 0, -1));
+  EXPECT_EQ(s.radius, 0.2);
+  EXPECT_EQ(s.friction, 0.4);
+}
+
+TEST(Conversions, EveryBadSphereRequestIsRefusedSayingWhy) {
+  struct Case {
+    SpawnSphere::Request request;
+    Vec3 center, velocity;
+    const char* reason;
+  };
+  const Vec3 o = Vec3::Zero();
+  const Case cases[] = {
+      {sphereRequest(0.0), o, o, "radius 0 m must be finite and > 0"},
+      {sphereRequest(-0.1), o, o, "radius -0.1 m must be finite and > 0"},
+      {sphereRequest(kNaN), o, o, "radius nan m"},
+      {sphereRequest(kInf), o, o, "radius inf m"},
+      {sphereRequest(0.1, -1.0), o, o, "mass -1 kg must be finite and >= 0"},
+      {sphereRequest(0.1, kNaN), o, o, "mass nan kg"},
+      {sphereRequest(0.1, 2.0), o, o, "dynamic spheres are not supported yet"},
+      {sphereRequest(0.1, 0.0, -0.5), o, o, "friction -0.5 must be finite and >= 0"},
+      {sphereRequest(0.1), Vec3(kNaN, 0, 0), o, "center (nan, 0, 0) is not finite"},
+      {sphereRequest(0.1), o, Vec3(0, 0, kInf), "velocity (0, 0, inf) is not finite"},
+  };
+  for (const Case& c : cases) {
+    const std::string e = errorOf([&] { sphereFromRequest(c.request, c.center, c.velocity); });
+    EXPECT_NE(e.find(c.reason), std::string::npos) << "expected '" << c.reason << "', got '" << e
+                                                     << "'";
+  }
+}
+
+TEST(Conversions, PinAndSphereInfo) {
+  Pin pin;
+  pin.id = 7;
+  pin.vertex = 12;
+  pin.target = Vec3(0.1, 0.2, 0.3);
+  pin.stiffness = 50.0;
+  const PinInfo p = toPinInfo(pin, Vec3(0.1, 0.2, 0.25));
+  EXPECT_EQ(p.id, 7);
+  EXPECT_EQ(p.vertex, 12);
+  EXPECT_EQ(toVec3(p.target), pin.target);
+  EXPECT_EQ(toVec3(p.position), Vec3(0.1, 0.2, 0.25));
+  EXPECT_EQ(p.stiffness, 50.0);
+
+  SphereCollider sphere;
+  sphere.id = 3;
+  sphere.center = Vec3(1, 1, 1);
+  sphere.radius = 0.5;
+  sphere.velocity = Vec3(2, 0, 0);
+  sphere.friction = 0.3;
+  const SphereInfo s = toSphereInfo(sphere);
+  EXPECT_EQ(s.id, 3);
+  EXPECT_EQ(toVec3(s.center), sphere.center);
+  EXPECT_EQ(s.radius, 0.5);
+  EXPECT_EQ(toVec3(s.velocity), sphere.velocity);
+  EXPECT_EQ(s.friction, 0.3);
+}
+
+TEST(Conversions, ClothStateReportsTheStepAndTheSimulation) {
+  Simulation sim = makeSimulation(
+      loadSceneFile(std::string(CLOTH_SIM_SOURCE_DIR) + "/config/scenes/hanging.yaml"));
+  SphereCollider sphere;
+  sphere.center = Vec3(0, 0, 0.5);
+  sphere.radius = 0.1;
+  sim.addSphere(sphere);
+  const StepReport report = sim.step();
+  std_msgs::Header header;
+  header.frame_id = "odom";
+  header.stamp = ros::Time(12, 5);
+  const ClothState s = toClothState(sim, report, StepCounters{4, 2, 1}, header);
+
+  EXPECT_EQ(s.header.frame_id, "odom");
+  EXPECT_EQ(s.header.stamp, ros::Time(12, 5));
+  EXPECT_EQ(s.step, 4u);
+  EXPECT_EQ(s.consecutive_failures, 2u);
+  EXPECT_EQ(s.divergence_resets, 1u);
+  EXPECT_DOUBLE_EQ(s.sim_time, sim.model().time_step);
+  EXPECT_EQ(s.time_step, sim.model().time_step);
+  EXPECT_EQ(s.solver, "local_global");
+  EXPECT_EQ(s.iterations, 10);
+  EXPECT_EQ(s.convergence, report.convergence);
+  EXPECT_EQ(s.max_strain, report.max_strain);
+  EXPECT_GT(s.step_wall_time, 0.0);
+  EXPECT_EQ(s.energy, sim.totalEnergy());
+  EXPECT_EQ(s.status, "ok");
+  EXPECT_EQ(s.message, "");
+  ASSERT_EQ(s.pins.size(), 2u);
+  for (const PinInfo& p : s.pins) {
+    EXPECT_EQ(toVec3(p.position), sim.state().positions.col(p.vertex));
+    EXPECT_EQ(toVec3(p.target), sim.pins().find(p.id)->target);
+  }
+  ASSERT_EQ(s.spheres.size(), 1u);
+  EXPECT_EQ(toVec3(s.spheres[0].center), sim.colliders().spheres()[0].center);
+}
+
+}  // namespace
+}  // namespace cloth_sim::node

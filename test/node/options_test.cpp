@@ -1,0 +1,175 @@
+// NodeOptions: parsing from the private namespace, validation and scene loading, no master.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "cloth_sim/node/options.h"
+#include "error_of.h"
+
+namespace cloth_sim::node {
+namespace {
+
+const std::string kSceneDir = std::string(CLOTH_SIM_SOURCE_DIR) + "/config/scenes";
+
+XmlRpc::XmlRpcValue params(const std::string& scene = "hanging") {
+  XmlRpc::XmlRpcValue p;
+  p["scene"] = scene;
+  return p;
+}
+
+/// The message parseNodeOptions throws for @p p, or "" when it accepts it.
+std::string parseError(const XmlRpc::XmlRpcValue& p) {
+  return test::errorOf([&] { parseNodeOptions(p); });
+}
+
+/// The message loadScene throws for a ~scene of @p scene, or "" when it loads.
+std::string loadError(const std::string& scene) {
+  NodeOptions o;
+  o.scene = scene;
+  return test::errorOf([&] { loadScene(o, kSceneDir); });
+}
+
+TEST(NodeOptions, DefaultsWhenOnlyTheSceneIsGiven) {
+  const NodeOptions o = parseNodeOptions(params());
+  EXPECT_EQ(o.scene, "hanging");
+  EXPECT_EQ(o.frame_id, "world");
+  EXPECT_EQ(o.render_rate, 30.0);
+  EXPECT_EQ(o.solver, "");
+  EXPECT_EQ(o.iterations, 0);
+  EXPECT_EQ(o.max_rollbacks, 30);
+  EXPECT_TRUE(o.shading);
+  EXPECT_EQ(o.max_interactive_pins, 16);
+  EXPECT_EQ(o.summary_period, 0.0);
+}
+
+TEST(NodeOptions, ReadsEveryParameterAndAcceptsAnIntegerForANumber) {
+  XmlRpc::XmlRpcValue p = params("drape");
+  p["frame_id"] = "odom";
+  p["render_rate"] = 12;  // an int where a double is expected: fine
+  p["solver"] = "chebyshev";
+  p["iterations"] = 25;
+  p["max_rollbacks"] = 5;
+  p["strain_color_scale"] = 0.2;
+  p["shading"] = false;
+  p["sphere_cull_distance"] = 7.5;
+  p["max_interactive_pins"] = 0;
+  p["summary_period"] = 2.0;
+  p["structural_stiffness"] = 10.0;  // a dynamic_reconfigure parameter: not ours, left alone
+  const NodeOptions o = parseNodeOptions(p);
+  EXPECT_EQ(o.scene, "drape");
+  EXPECT_EQ(o.frame_id, "odom");
+  EXPECT_EQ(o.render_rate, 12.0);
+  EXPECT_EQ(o.solver, "chebyshev");
+  EXPECT_EQ(o.iterations, 25);
+  EXPECT_EQ(o.max_rollbacks, 5);
+  EXPECT_EQ(o.strain_color_scale, 0.2);
+  EXPECT_FALSE(o.shading);
+  EXPECT_EQ(o.sphere_cull_distance, 7.5);
+  EXPECT_EQ(o.max_interactive_pins, 0);
+  EXPECT_EQ(o.summary_period, 2.0);
+}
+
+TEST(NodeOptions, AMissingSceneIsRefusedNamingTheParameter) {
+  const std::string e = parseError(XmlRpc::XmlRpcValue());  // empty private namespace
+  EXPECT_NE(e.find("parameter '~scene'"), std::string::npos) << e;
+  EXPECT_NE(e.find("required"), std::string::npos) << e;
+}
+
+TEST(NodeOptions, AWrongTypeIsRefusedNamingParameterAndTypes) {
+  XmlRpc::XmlRpcValue p = params();
+  p["render_rate"] = "fast";
+  const std::string e = parseError(p);
+  EXPECT_NE(e.find("parameter '~render_rate'"), std::string::npos) << e;
+  EXPECT_NE(e.find("expected a number, got a string"), std::string::npos) << e;
+
+  p = params();
+  p["shading"] = 1;
+  EXPECT_NE(parseError(p).find("parameter '~shading': expected true or false"), std::string::npos);
+  p = params();
+  p["iterations"] = 2.5;
+  EXPECT_NE(parseError(p).find("parameter '~iterations': expected an integer, got a number"),
+            std::string::npos);
+}
+
+TEST(NodeOptions, ANamespaceThatIsNotAMapIsRefused) {
+  EXPECT_NE(parseError(XmlRpc::XmlRpcValue(3)), "");
+}
+
+/// One bad value per rule, with the parameter the message must name.
+struct BadValue {
+  const char* param;
+  XmlRpc::XmlRpcValue value;
+  const char* rule;  ///< a piece of the message
+};
+
+TEST(NodeOptions, EveryRuleIsCheckedAndNamesItsParameter) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const BadValue cases[] = {
+      {"render_rate", XmlRpc::XmlRpcValue(-3.0), "-3 must be in (0, 1000] Hz"},
+      {"render_rate", XmlRpc::XmlRpcValue(0.0), "must be in (0, 1000] Hz"},
+      {"render_rate", XmlRpc::XmlRpcValue(2000.0), "must be in (0, 1000] Hz"},
+      {"render_rate", XmlRpc::XmlRpcValue(nan), "must be in (0, 1000] Hz"},
+      {"frame_id", XmlRpc::XmlRpcValue("/world"), "without a leading '/'"},
+      {"frame_id", XmlRpc::XmlRpcValue(""), "non-empty"},
+      {"solver", XmlRpc::XmlRpcValue("runge_kutta"), "local_global"},  // lists the valid names
+      {"iterations", XmlRpc::XmlRpcValue(-1), "must be in [0, 100000]"},
+      {"max_rollbacks", XmlRpc::XmlRpcValue(0), "must be >= 1"},
+      {"strain_color_scale", XmlRpc::XmlRpcValue(0.0), "must be finite and > 0"},
+      {"sphere_cull_distance", XmlRpc::XmlRpcValue(-1.0), "must be finite and > 0"},
+      {"max_interactive_pins", XmlRpc::XmlRpcValue(-1), "must be >= 0"},
+      {"summary_period", XmlRpc::XmlRpcValue(-0.5), "must be finite and >= 0"},
+  };
+  for (const BadValue& c : cases) {
+    XmlRpc::XmlRpcValue p = params();
+    p[c.param] = c.value;
+    const std::string e = parseError(p);
+    EXPECT_NE(e.find(std::string("parameter '~") + c.param + "'"), std::string::npos)
+        << c.param << ": " << e;
+    EXPECT_NE(e.find(c.rule), std::string::npos) << c.param << ": " << e;
+  }
+}
+
+TEST(ResolveScenePath, ABareNameIsAShippedSceneAnythingElseIsAPath) {
+  EXPECT_EQ(resolveScenePath("drape", "/pkg/config/scenes"), "/pkg/config/scenes/drape.yaml");
+  EXPECT_EQ(resolveScenePath("/tmp/my.yaml", "/d"), "/tmp/my.yaml");
+  EXPECT_EQ(resolveScenePath("rel/my.yaml", "/d"), "rel/my.yaml");
+  EXPECT_EQ(resolveScenePath("my.yaml", "/d"), "my.yaml");
+}
+
+TEST(LoadScene, LoadsAShippedSceneByNameAndAppliesTheOverrides) {
+  NodeOptions o;
+  o.scene = "hanging";
+  SceneConfig scene = loadScene(o, kSceneDir);
+  EXPECT_EQ(scene.grid.rows, 32);
+  EXPECT_EQ(scene.options.solver, "local_global");
+  EXPECT_EQ(scene.options.settings.max_iterations, 10);
+
+  o.solver = "chebyshev";
+  o.iterations = 40;
+  scene = loadScene(o, kSceneDir);
+  EXPECT_EQ(scene.options.solver, "chebyshev");
+  EXPECT_EQ(scene.options.settings.max_iterations, 40);
+}
+
+TEST(LoadScene, AMissingFileIsRefusedNamingTheParameterAndThePath) {
+  const std::string m = loadError("no_such_scene");
+  EXPECT_NE(m.find("parameter '~scene'"), std::string::npos) << m;
+  EXPECT_NE(m.find("no_such_scene.yaml"), std::string::npos) << m;
+}
+
+TEST(LoadScene, AnInvalidFileIsRefusedNamingTheParameterAndTheField) {
+  const std::string path = ::testing::TempDir() + "cloth_sim_bad_scene.yaml";
+  std::ofstream(path) << "cloth:\n  grid:\n    rows: -3\n    cols: 4\n    size: [1, 1]\n"
+                         "material:\n  springs:\n    structural: 100\n";
+  const std::string m = loadError(path);
+  EXPECT_NE(m.find("parameter '~scene'"), std::string::npos) << m;
+  EXPECT_NE(m.find("cloth.grid.rows"), std::string::npos) << m;
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace cloth_sim::node

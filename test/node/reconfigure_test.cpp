@@ -1,0 +1,162 @@
+// dynamic_reconfigure on a running cloth_sim_node: a stiffness change changes the sag the right
+// way, solver and iterations switch, a refused value is put back, and an unstable solver leads
+// to rollbacks, automatic resets and an ERROR in /diagnostics, with finite markers throughout.
+#include <algorithm>
+#include <cmath>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <dynamic_reconfigure/Reconfigure.h>
+#include <gtest/gtest.h>
+
+#include "ros_test_util.h"
+
+namespace cloth_sim::test {
+namespace {
+
+const char* const kSetParameters = "cloth_sim_node/set_parameters";
+
+NodeProbe& probe() {
+  static NodeProbe p{ros::NodeHandle()};
+  static const bool ready = p.waitForTraffic(60.0);
+  EXPECT_TRUE(ready) << "no cloth/state or cloth/markers within 60 s";
+  return p;
+}
+
+/// Sets one parameter (a member of @p list, e.g. &Config::doubles) through the node's
+/// set_parameters service; returns the config the node reports back.
+template <class Param, class Value>
+dynamic_reconfigure::Config reconfigure(std::vector<Param> dynamic_reconfigure::Config::*list,
+                                        const std::string& name, const Value& value) {
+  dynamic_reconfigure::Reconfigure::Request req;
+  Param p;
+  p.name = name;
+  p.value = value;
+  (req.config.*list).push_back(p);
+  return call<dynamic_reconfigure::Reconfigure>(kSetParameters, req).config;
+}
+dynamic_reconfigure::Config reconfigure(const std::string& name, double value) {
+  return reconfigure(&dynamic_reconfigure::Config::doubles, name, value);
+}
+dynamic_reconfigure::Config reconfigure(const std::string& name, int value) {
+  return reconfigure(&dynamic_reconfigure::Config::ints, name, value);
+}
+dynamic_reconfigure::Config reconfigure(const std::string& name, const std::string& value) {
+  return reconfigure(&dynamic_reconfigure::Config::strs, name, value);
+}
+
+double doubleIn(const dynamic_reconfigure::Config& c, const std::string& name) {
+  for (const auto& d : c.doubles) {
+    if (d.name == name) return d.value;
+  }
+  ADD_FAILURE() << name << " not in the reported config";
+  return NAN;
+}
+
+/// Lowest point of the sheet (m), averaged over the markers of @p seconds.
+double lowestPoint(double seconds) {
+  const auto arrays = probe().collectMarkers(seconds);
+  EXPECT_GE(arrays.size(), 5u);
+  double sum = 0.0;
+  for (const auto& a : arrays) {
+    const auto* cloth = findMarker(a, "cloth", 0);
+    double low = INFINITY;
+    for (const auto& pt : cloth->points) low = std::min(low, pt.z);
+    sum += low;
+  }
+  return sum / arrays.size();
+}
+
+constexpr double kSettle = 3.0;  // s; damping 3/s: the sheet settles well within this
+
+TEST(Reconfigure, StiffnessChangesTheSagTheRightWay) {
+  probe();
+  ros::WallDuration(kSettle).sleep();
+  const double z_50 = lowestPoint(0.5);
+
+  EXPECT_EQ(doubleIn(reconfigure("structural_stiffness", 10.0), "structural_stiffness"), 10.0);
+  ros::WallDuration(kSettle).sleep();
+  const double z_10 = lowestPoint(0.5);
+
+  EXPECT_EQ(doubleIn(reconfigure("structural_stiffness", 500.0), "structural_stiffness"), 500.0);
+  ros::WallDuration(kSettle).sleep();
+  const double z_500 = lowestPoint(0.5);
+
+  std::printf("[measured] lowest point: %.4f m at 50 N/m, %.4f m at 10 N/m, %.4f m at 500 N/m\n",
+              z_50, z_10, z_500);
+  EXPECT_LT(z_10, z_50 - 0.01) << "softer springs must sag more";
+  EXPECT_GT(z_500, z_50 + 0.003) << "stiffer springs must sag less";
+}
+
+TEST(Reconfigure, SolverAndIterationsSwitchAndARefusedValueIsPutBack) {
+  NodeProbe& p = probe();
+  reconfigure("solver", std::string("chebyshev"));
+  reconfigure("iterations", 25);
+  const auto s = p.waitForState(
+      [](const ClothState& c) { return c.solver == "chebyshev" && c.iterations == 25; }, 3.0);
+  EXPECT_TRUE(s) << "the node still steps with " << p.latestState().solver << ", "
+                 << p.latestState().iterations << " iterations";
+
+  // The sheet has no bending springs: the value is refused and the server reports it back at 0.
+  EXPECT_EQ(doubleIn(reconfigure("bending_stiffness", 7.0), "bending_stiffness"), 0.0);
+  EXPECT_TRUE(p.waitForLog("this object has no bending springs", 5.0));
+
+  reconfigure("solver", std::string("local_global"));
+  reconfigure("iterations", 10);
+  EXPECT_TRUE(p.waitForState(
+      [](const ClothState& c) { return c.solver == "local_global" && c.iterations == 10; }, 3.0));
+}
+
+TEST(Reconfigure, AnUnstableSolverIsRolledBackThenResetAndDiagnosed) {
+  NodeProbe& p = probe();
+  ros::NodeHandle nh;
+  std::mutex mutex;
+  int worst_level = 0;
+  std::string worst_message;
+  ros::Subscriber diag = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& a) {
+        std::lock_guard<std::mutex> lock(mutex);
+        for (const auto& s : a->status) {
+          if (s.name.find("simulation step") != std::string::npos && s.level > worst_level) {
+            worst_level = s.level;
+            worst_message = s.message;
+          }
+        }
+      });
+
+  // Explicit Euler with 500 N/m springs: h omega is far above 2, every step blows up.
+  reconfigure("solver", std::string("explicit_euler"));
+  const auto failed = p.waitForState([](const ClothState& c) { return c.status != "ok"; }, 5.0);
+  ASSERT_TRUE(failed) << "explicit_euler did not diverge";
+  EXPECT_FALSE(failed->message.empty());
+  const auto reset = p.waitForState([](const ClothState& c) { return c.divergence_resets > 0; },
+                                    10.0);
+  ASSERT_TRUE(reset) << "no automatic reset after repeated rollbacks";
+  for (const auto& a : p.collectMarkers(2.0)) EXPECT_TRUE(allFinite(a));
+  {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(5.0);
+    while (ros::WallTime::now() < end) {
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (worst_level == diagnostic_msgs::DiagnosticStatus::ERROR) break;
+      }
+      ros::WallDuration(0.05).sleep();
+    }
+    std::lock_guard<std::mutex> lock(mutex);
+    EXPECT_EQ(worst_level, diagnostic_msgs::DiagnosticStatus::ERROR) << worst_message;
+    EXPECT_NE(worst_message.find("reset"), std::string::npos) << worst_message;
+  }
+
+  reconfigure("solver", std::string("local_global"));
+  EXPECT_TRUE(p.waitForState(
+      [](const ClothState& c) {
+        return c.solver == "local_global" && c.status == "ok" && c.consecutive_failures == 0;
+      },
+      5.0));
+}
+
+}  // namespace
+}  // namespace cloth_sim::test
+
+int main(int argc, char** argv) {
+  return cloth_sim::test::runRosTests(argc, argv, "node_reconfigure_test");
+}
