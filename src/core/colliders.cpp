@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "cloth_sim/core/contact_response.h"
+
 namespace cloth_sim {
 namespace {
 
@@ -19,18 +21,6 @@ void checkSphere(const Vec3& center, double radius, const Vec3& velocity, double
     throw std::invalid_argument("sphere friction " + std::to_string(friction) +
                                 " must be finite and >= 0");
   }
-}
-
-/// Coulomb friction on a displacement: removes up to mu * normal_correction of its tangential
-/// part (all of it when smaller: static friction).
-Vec3 applyFriction(const Vec3& displacement, const Vec3& normal, double normal_correction,
-                   double mu) {
-  if (mu <= 0.0) return displacement;
-  const Vec3 tangential = displacement - displacement.dot(normal) * normal;
-  const double slide = tangential.norm();
-  const double cut = mu * normal_correction;
-  if (slide <= cut) return displacement - tangential;
-  return displacement - (cut / slide) * tangential;
 }
 
 /// Returns true and fixes @p rel_end (particle relative to the sphere centre at the end of the
@@ -107,6 +97,11 @@ void Colliders::setGround(const GroundPlane& ground) {
   ground_ = ground;
 }
 
+void Colliders::addMesh(std::shared_ptr<const MeshObstacle> mesh) {
+  if (!mesh) throw std::invalid_argument("mesh obstacle is null");
+  meshes_.push_back(std::move(mesh));
+}
+
 void Colliders::advance(double h) {
   for (SphereCollider& s : spheres_) s.center += h * s.velocity;
 }
@@ -123,6 +118,13 @@ int resolveCollisions(const Colliders& colliders, double h, const std::vector<ch
       Vec3 rel_end = end.col(i) - s.center;
       if (collideSphere(start.col(i) - old_center, rel_end, s.radius, s.friction)) {
         end.col(i) = s.center + rel_end;
+        hit = true;
+      }
+    }
+    for (const auto& mesh : colliders.meshes()) {
+      Vec3 moved = end.col(i);
+      if (mesh->collide(start.col(i), moved)) {
+        end.col(i) = moved;
         hit = true;
       }
     }

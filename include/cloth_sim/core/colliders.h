@@ -2,8 +2,10 @@
 /// Kinematic colliders (spheres, ground plane) and the contact response applied after a solve.
 #pragma once
 
+#include <memory>
 #include <vector>
 
+#include "cloth_sim/core/mesh_obstacle.h"
 #include "cloth_sim/core/types.h"
 
 namespace cloth_sim {
@@ -42,12 +44,17 @@ class Colliders {
   void setGround(const GroundPlane& ground);
   const GroundPlane& ground() const { return ground_; }
 
+  /// Adds a static mesh obstacle (shared, immutable: copying Colliders stays cheap).
+  void addMesh(std::shared_ptr<const MeshObstacle> mesh);
+  const std::vector<std::shared_ptr<const MeshObstacle>>& meshes() const { return meshes_; }
+
   /// Moves every sphere by velocity * h.
   void advance(double h);
-  bool empty() const { return spheres_.empty() && !ground_.enabled; }
+  bool empty() const { return spheres_.empty() && meshes_.empty() && !ground_.enabled; }
 
  private:
   std::vector<SphereCollider> spheres_;
+  std::vector<std::shared_ptr<const MeshObstacle>> meshes_;
   GroundPlane ground_;
   int next_id_ = 0;
 };
@@ -57,7 +64,8 @@ class Colliders {
 /// For each particle that is free (@p movable[i] true): spheres are tested along the particle's
 /// path relative to the sphere (from start - old centre to end - new centre), so a fast sphere
 /// cannot pass through a particle within one step; a particle that entered is put back on the
-/// surface where it entered, and one below the ground is lifted onto it. Coulomb friction cuts
+/// surface where it entered; mesh obstacles keep it on the side it came from (MeshObstacle);
+/// one below the ground is lifted onto it. Coulomb friction cuts
 /// the tangential displacement relative to the collider by mu times the normal correction
 /// (sticking when it is smaller). Each corrected particle gets the velocity
 /// (end - start) / h, so velocities stay consistent with the projected positions: against a
