@@ -21,6 +21,7 @@ add_library(cloth_sim_core
   src/core/spatial_hash.cpp
   src/core/contact_response.cpp
   src/core/mesh_obstacle.cpp
+  src/core/sphere_impacts.cpp
 )
 target_include_directories(cloth_sim_core PUBLIC include ${EIGEN3_INCLUDE_DIRS})
 find_package(tinyobjloader REQUIRED)
@@ -34,7 +35,7 @@ if(CATKIN_ENABLE_TESTING)
   set(CORE_TESTS
     model_test pins_test spring_kernels_test implicit_euler_test explicit_solvers_test
     newton_solver_test local_global_solver_test colliders_test grid_builder_test
-    simulation_test scene_test triangle_mesh_test mesh_builder_test mesh_obstacle_test)
+    simulation_test scene_test triangle_mesh_test mesh_builder_test mesh_obstacle_test sphere_impacts_test dynamic_spheres_test)
   foreach(t ${CORE_TESTS})
     catkin_add_gtest(${t} test/core/${t}.cpp test/core/test_util.cpp
                      WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

@@ -375,7 +375,7 @@ void readColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) 
     for (std::size_t k = 0; k < spheres.size(); ++k) {
       const std::string path = "colliders.spheres[" + std::to_string(k) + "]";
       const YAML::Node s = spheres[k];
-      r.map(s, path, {"center", "radius", "velocity", "friction"});
+      r.map(s, path, {"center", "radius", "velocity", "friction", "mass", "restitution"});
       if (!s["center"]) r.fail(path + ".center", "is required");
       if (!s["radius"]) r.fail(path + ".radius", "is required");
       SphereCollider sphere;
@@ -384,6 +384,13 @@ void readColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) 
       if (s["velocity"]) sphere.velocity = r.vec3(s["velocity"], path + ".velocity");
       if (s["friction"]) {
         sphere.friction = r.number(s["friction"], path + ".friction", kNonNegative, ">= 0");
+      }
+      if (s["mass"]) {
+        sphere.mass = r.number(s["mass"], path + ".mass", kNonNegative, ">= 0 kg (0 = kinematic)");
+      }
+      if (s["restitution"]) {
+        sphere.restitution = r.number(s["restitution"], path + ".restitution",
+                                      [](double v) { return v >= 0.0 && v <= 1.0; }, "in [0, 1]");
       }
       scene.spheres.push_back(sphere);
     }

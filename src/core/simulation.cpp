@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "cloth_sim/core/implicit_euler.h"
+#include "cloth_sim/core/sphere_impacts.h"
 #include "cloth_sim/core/spring_kernels.h"
 
 namespace cloth_sim {
@@ -66,7 +67,7 @@ StepReport Simulation::step() {
   const Colliders colliders_before = colliders_;
   const double h = model_.time_step;
 
-  colliders_.advance(h);
+  colliders_.advance(h, model_.gravity);
   const SolverInput input{model_, pins_, revision_};
   const auto t_solve = Clock::now();
   const SolveResult solved = solver_->step(input, options_.settings, state_);
@@ -78,12 +79,16 @@ StepReport Simulation::step() {
   report.converged = solved.converged;
   if (!colliders_.empty()) {
     report.contacts =
-        resolveCollisions(colliders_, h, movable_, before.positions, state_.positions,
+        resolveCollisions(colliders_, h, model_.mass, movable_, before.positions, state_.positions,
                           state_.velocities);
+    report.contacts += resolveSphereImpacts(colliders_, 2.0 * model_.gravity.norm() * h);
   }
   report.max_strain = maxStrain(model_.springs, state_.positions);
 
-  const bool finite = state_.allFinite() && std::isfinite(report.max_strain);
+  bool finite = state_.allFinite() && std::isfinite(report.max_strain);
+  for (const SphereCollider& s : colliders_.spheres()) {
+    finite = finite && s.center.allFinite() && s.velocity.allFinite() && s.angular_velocity.allFinite();
+  }
   if (!finite || report.max_strain > options_.divergence_strain) {
     std::ostringstream msg;
     report.status = finite ? StepStatus::kDiverged : StepStatus::kNonFinite;
