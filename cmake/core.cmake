@@ -22,6 +22,7 @@ add_library(cloth_sim_core
   src/core/contact_response.cpp
   src/core/mesh_obstacle.cpp
   src/core/sphere_impacts.cpp
+  src/core/contact_forces.cpp
 )
 target_include_directories(cloth_sim_core PUBLIC include ${EIGEN3_INCLUDE_DIRS})
 find_package(tinyobjloader REQUIRED)

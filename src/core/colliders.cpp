@@ -11,6 +11,11 @@
 namespace cloth_sim {
 namespace {
 
+/// Overlap (fraction of the radius) a particle may keep with a dynamic sphere whose contacts
+/// were solved with the step: the half-space linearisation of the sphere leaves a vertex next
+/// to a contact point up to about (spacing / 2)^2 / (2 r) inside it.
+constexpr double kShallowOverlap = 0.05;
+
 void checkSphere(const SphereCollider& s) {
   if (!s.center.allFinite()) throw std::invalid_argument("sphere center must be finite");
   if (!s.velocity.allFinite()) throw std::invalid_argument("sphere velocity must be finite");
@@ -57,9 +62,11 @@ bool collideSphere(const Vec3& rel_start, Vec3& rel_end, double radius, double m
     // Keep the motion along the tangent plane at the entry point, drop the part into it.
     corrected = rel_end - std::min(0.0, (rel_end - (rel_start + t * path)).dot(normal)) * normal;
   } else {
-    // Started inside (sphere spawned or teleported onto the cloth): push out radially.
+    // Started inside (a sphere spawned or teleported onto the cloth, or a contact left
+    // slightly open): push out on the side where the particle was at the start, so a sphere
+    // that moves on cannot carry it through to its back.
     if (rel_end.squaredNorm() >= r2) return false;
-    corrected = rel_end;
+    corrected = rel_start.squaredNorm() > 1e-24 ? rel_start : rel_end;
   }
   const double len = corrected.norm();
   const Vec3 normal = len > 1e-12 ? Vec3(corrected / len) : Vec3::UnitZ();
@@ -164,16 +171,19 @@ void Colliders::addMesh(std::shared_ptr<const MeshObstacle> mesh) {
   meshes_.push_back(std::move(mesh));
 }
 
-void Colliders::advance(double h, const Vec3& gravity) {
+void Colliders::advance(double h, const Vec3& gravity, double decay) {
   for (SphereCollider& s : spheres_) {
-    if (s.isDynamic()) s.velocity += h * gravity;
+    if (s.isDynamic()) {
+      s.velocity = decay * s.velocity + h * gravity;
+      s.angular_velocity *= decay;
+    }
     s.center += h * s.velocity;
   }
 }
 
 int resolveCollisions(Colliders& colliders, double h, const Eigen::VectorXd& mass,
                       const std::vector<char>& movable, const Points& start, Points& end,
-                      Points& velocities) {
+                      Points& velocities, bool in_solve_contacts) {
   int corrected = 0;
   const GroundPlane& ground = colliders.ground();
   std::vector<SphereCollider>& spheres = colliders.mutableSpheres();
@@ -186,6 +196,13 @@ int resolveCollisions(Colliders& colliders, double h, const Eigen::VectorXd& mas
       const SphereCollider& s = spheres[k];
       const Vec3 old_center = s.center - h * s.velocity;
       Vec3 rel_end = end.col(i) - s.center;
+      // A dynamic sphere's contacts were solved with the step (ContactForces), against its
+      // triangles linearised as half-spaces: leave the small overlap that linearisation allows
+      // (correcting it here fought the solved forces); catch only what the solve missed.
+      if (s.isDynamic() && in_solve_contacts && rel_end.norm() > (1.0 - kShallowOverlap) * s.radius &&
+          (start.col(i) - old_center).norm() > s.radius) {
+        return;
+      }
       const auto slip = [&](const Vec3& n) { return Vec3(h * s.angular_velocity.cross(s.radius * n)); };
       if (!collideSphere(start.col(i) - old_center, rel_end, s.radius, s.friction, slip)) return;
       const Vec3 correction = s.center + rel_end - end.col(i);
@@ -228,6 +245,19 @@ int resolveCollisions(Colliders& colliders, double h, const Eigen::VectorXd& mas
     s.velocity += dv;
     s.center += h * dv;  // the position change that goes with the velocity change
     s.angular_velocity += reactions[k].angular_impulse / s.inertia();
+    // The sphere's own move above may have brought it back into a particle by a fraction m/M of
+    // a correction: push such particles out fully; the sphere only takes the (tiny) impulse.
+    for (Eigen::Index i = 0; i < end.cols(); ++i) {
+      if (!movable[i]) continue;
+      const Vec3 d = end.col(i) - s.center;
+      const double dist = d.norm();
+      const double allowed = in_solve_contacts ? (1.0 - kShallowOverlap) * s.radius : s.radius;
+      if (dist >= allowed || dist < 1e-12) continue;
+      const Vec3 push = (allowed - dist) * d / dist;
+      end.col(i) += push;
+      velocities.col(i) = (end.col(i) - start.col(i)) / h;
+      s.velocity -= mass[i] * push / (h * s.mass);
+    }
   }
   return corrected;
 }

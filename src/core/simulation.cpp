@@ -67,8 +67,9 @@ StepReport Simulation::step() {
   const Colliders colliders_before = colliders_;
   const double h = model_.time_step;
 
-  colliders_.advance(h, model_.gravity);
-  const SolverInput input{model_, pins_, revision_};
+  colliders_.advance(h, model_.gravity, velocityDecay(model_));
+  contacts_.bind(&colliders_, &movable_);
+  const SolverInput input{model_, pins_, revision_, colliders_.empty() ? nullptr : &contacts_};
   const auto t_solve = Clock::now();
   const SolveResult solved = solver_->step(input, options_.settings, state_);
   const auto t1 = Clock::now();
@@ -78,9 +79,10 @@ StepReport Simulation::step() {
   report.convergence = solved.convergence;
   report.converged = solved.converged;
   if (!colliders_.empty()) {
+    contacts_.finish(colliders_);
     report.contacts =
         resolveCollisions(colliders_, h, model_.mass, movable_, before.positions, state_.positions,
-                          state_.velocities);
+                          state_.velocities, solved.used_contacts);
     report.contacts += resolveSphereImpacts(colliders_, 2.0 * model_.gravity.norm() * h);
   }
   report.max_strain = maxStrain(model_.springs, state_.positions);
@@ -98,11 +100,18 @@ StepReport Simulation::step() {
     } else {
       msg << solver_->name() << " produced a non-finite position or velocity";
     }
-    msg << " at t = " << before.time << " s; rolled back to that state with zero velocities";
+    msg << " at t = " << before.time << " s; rolled back to that state with zero velocities"
+        << " (cloth and dynamic spheres)";
     report.message = msg.str();
     state_ = before;
     state_.velocities.setZero();
     colliders_ = colliders_before;
+    for (SphereCollider& s : colliders_.mutableSpheres()) {
+      if (!s.isDynamic()) continue;
+      s.velocity.setZero();
+      s.angular_velocity.setZero();
+    }
+    contacts_ = ContactForces();  // forget the warm start that led there
     report.max_strain = maxStrain(model_.springs, state_.positions);
   }
   report.solve_time = std::chrono::duration<double>(t1 - t_solve).count();

@@ -71,7 +71,7 @@ int resolveSphereImpacts(Colliders& colliders, double resting_speed) {
         a.s->center += share * a.inv_mass * n;
         b.s->center -= share * b.inv_mass * n;
         impact(a, &b, n, -a.s->radius * n, b.s->radius * n,
-               std::min(a.s->restitution, b.s->restitution), std::max(a.s->friction, b.s->friction),
+               std::max(a.s->restitution, b.s->restitution), std::max(a.s->friction, b.s->friction),
                resting_speed);
         if (sweep == 0) ++contacts;
       }

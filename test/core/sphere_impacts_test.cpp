@@ -45,9 +45,13 @@ TEST(SphereImpacts, PlasticImpactConservesMomentumAndLeavesACommonVelocity) {
   run(c, 120, Vec3::Zero());
   const Vec3 p1 = 2.0 * c.spheres()[0].velocity + 1.0 * c.spheres()[1].velocity;
   EXPECT_NEAR((p1 - p0).norm(), 0.0, 1e-12);
-  // e = 0: no normal relative speed is left along the line of centres.
-  const Vec3 n = (c.spheres()[0].center - c.spheres()[1].center).normalized();
-  EXPECT_NEAR((c.spheres()[0].velocity - c.spheres()[1].velocity).dot(n), 0.0, 1e-9);
+  // Head on with e = 0 they leave together at p / (m1 + m2).
+  Colliders head_on;
+  head_on.addSphere(ball(Vec3(-0.3, 0, 0), Vec3(3, 0, 0), 2.0));
+  head_on.addSphere(ball(Vec3(0.3, 0, 0), Vec3(-1, 0, 0), 1.0));
+  run(head_on, 120, Vec3::Zero());
+  EXPECT_NEAR(head_on.spheres()[0].velocity.x(), 5.0 / 3.0, 1e-12);
+  EXPECT_NEAR(head_on.spheres()[1].velocity.x(), 5.0 / 3.0, 1e-12);
 }
 
 TEST(SphereImpacts, SlidingBallEndsRollingAtFiveSevenths) {

@@ -67,8 +67,9 @@ class Colliders {
   const std::vector<std::shared_ptr<const MeshObstacle>>& meshes() const { return meshes_; }
 
   /// Moves the spheres over one step: a kinematic one by velocity * h; a dynamic one by
-  /// symplectic Euler under @p gravity (v += g h, then centre += v h).
-  void advance(double h, const Vec3& gravity = Vec3::Zero());
+  /// symplectic Euler under @p gravity and the model's drag (v <- @p decay v + g h, spin
+  /// <- decay spin, then centre += v h), decay = exp(-damping h) as for the cloth.
+  void advance(double h, const Vec3& gravity = Vec3::Zero(), double decay = 1.0);
   bool empty() const { return spheres_.empty() && meshes_.empty() && !ground_.enabled; }
 
  private:
@@ -96,10 +97,12 @@ class Colliders {
 /// exactly. Sphere reactions are summed over all particles and applied at the end.
 ///
 /// Spheres are at their end-of-step centres (Colliders::advance done); the start centre is
-/// center - velocity * h. @p mass is per particle (kg). Returns the number of corrected
+/// center - velocity * h. @p mass is per particle (kg). With @p in_solve_contacts the solver
+/// already solved the dynamic spheres' contacts (ContactForces): a particle overlapping such a
+/// sphere by less than 5 % of its radius is then left alone. Returns the number of corrected
 /// particles.
 int resolveCollisions(Colliders& colliders, double h, const Eigen::VectorXd& mass,
                       const std::vector<char>& movable, const Points& start, Points& end,
-                      Points& velocities);
+                      Points& velocities, bool in_solve_contacts = false);
 
 }  // namespace cloth_sim

@@ -12,7 +12,8 @@ namespace cloth_sim {
 ///    (a kinematic sphere has none and does not move), without touching velocities, so the
 ///    projection adds no energy;
 ///  - an approaching contact gets a normal impulse leaving a relative normal speed e times the
-///    incoming one, e the smaller restitution of the two (the sphere's own against the ground);
+///    incoming one, e the larger restitution of the two (the sphere's own against the ground),
+///    so a bouncy ball bounces off a still kinematic sphere;
 ///    impacts slower than @p resting_speed (m/s) do not bounce, so a ball resting under gravity
 ///    stays at rest (Simulation passes 2 |g| h, the speed gravity adds in two steps);
 ///  - then a Coulomb friction impulse at the contact point, on the slip velocity including spin,
