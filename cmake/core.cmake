@@ -16,9 +16,17 @@ add_library(cloth_sim_core
   src/core/grid_builder.cpp
   src/core/simulation.cpp
   src/core/scene.cpp
+  src/core/triangle_mesh.cpp
+  src/core/mesh_builder.cpp
+  src/core/spatial_hash.cpp
+  src/core/contact_response.cpp
+  src/core/mesh_obstacle.cpp
+  src/core/sphere_impacts.cpp
+  src/core/contact_forces.cpp
 )
 target_include_directories(cloth_sim_core PUBLIC include ${EIGEN3_INCLUDE_DIRS})
-target_link_libraries(cloth_sim_core PUBLIC yaml-cpp)
+find_package(tinyobjloader REQUIRED)
+target_link_libraries(cloth_sim_core PUBLIC yaml-cpp PRIVATE tinyobjloader::tinyobjloader_double)
 set_target_properties(cloth_sim_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
 
@@ -28,7 +36,7 @@ if(CATKIN_ENABLE_TESTING)
   set(CORE_TESTS
     model_test pins_test spring_kernels_test implicit_euler_test explicit_solvers_test
     newton_solver_test local_global_solver_test colliders_test grid_builder_test
-    simulation_test scene_test)
+    simulation_test scene_test triangle_mesh_test mesh_builder_test mesh_obstacle_test sphere_impacts_test dynamic_spheres_test)
   foreach(t ${CORE_TESTS})
     catkin_add_gtest(${t} test/core/${t}.cpp test/core/test_util.cpp
                      WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

@@ -5,6 +5,7 @@
 #include <limits>
 #include <vector>
 
+#include "cloth_sim/core/contact_forces.h"
 #include "cloth_sim/core/spring_kernels.h"
 
 namespace cloth_sim {
@@ -42,6 +43,15 @@ void LocalGlobalSolver::factorize(const SolverInput& in) {
   if (nf > 0) {
     factor_.compute(system);
     ++factorizations_;
+    // Contact compliance estimate kappa / A_ii, kappa = A_jj (A^-1)_jj measured on the particle
+    // with the largest diagonal (PROTOTYPE).
+    int j = 0;
+    for (int f = 0; f < nf; ++f) if (system.coeff(f, f) > system.coeff(j, j)) j = f;
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(nf);
+    e[j] = 1.0;
+    const double kappa = factor_.solve(e)[j] * system.coeff(j, j);
+    compliance_ = Eigen::VectorXd::Zero(model.particleCount());
+    for (int f = 0; f < nf; ++f) compliance_[dofs_.free_particles[f]] = kappa / system.coeff(f, f);
   }
   reduced_rhs_.resize(nf, 3);
   reduced_x_.resize(nf, 3);
@@ -55,6 +65,8 @@ void LocalGlobalSolver::beginStep(const SolverInput& in, const State& state) {
   problem_ = ImplicitStepProblem::build(model, in.pins, state);
   const double h2 = problem_.h * problem_.h;
   const Points& y = problem_.inertial;
+  contacts_ = in.contacts;
+  if (contacts_ != nullptr) contacts_->begin(model, state.positions, y, compliance_);
 
   rhs_constant_ = (y + h2 * model.gravity.replicate(1, y.cols())) * model.mass.asDiagonal();
   for (const Pin& pin : in.pins.pins()) {
@@ -76,6 +88,12 @@ double LocalGlobalSolver::iterate(const Points& x, Points& x_next) {
   const Springs& springs = problem_.model->springs;
   const double h2 = problem_.h * problem_.h;
   rhs_ = rhs_constant_;
+  if (contacts_ != nullptr) {
+    // Update the forces from the current iterate first, so the last global solve and the
+    // spheres' reactions use the same forces (exact momentum balance).
+    contacts_->update(x);
+    contacts_->addForces(rhs_);
+  }
   double spring_energy = 0.0;
   const std::size_t m = springs.size();
   for (std::size_t s = 0; s < m; ++s) {
@@ -123,6 +141,7 @@ SolveResult LocalGlobalSolver::step(const SolverInput& in, const SolverSettings&
   }
   if (tracing()) recordTrace(objectiveAt(x));
   state = problem_.finish(x, state.time);
+  result.used_contacts = solvesContacts();
   return result;
 }
 
@@ -206,6 +225,7 @@ SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& s
   if (accelerated && objectiveAt(x) > objectiveAt(x_hat_prev)) x = x_hat_prev;
   if (tracing()) recordTrace(objectiveAt(x));
   state = problem_.finish(x, state.time);
+  result.used_contacts = solvesContacts();
   return result;
 }
 

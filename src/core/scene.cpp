@@ -112,6 +112,13 @@ class Reader {
 
   const std::string& source() const { return source_; }
 
+  /// @p file as given if absolute, else relative to the directory of the scene file.
+  std::string resolve(const std::string& file) const {
+    if (!file.empty() && file[0] == '/') return file;
+    const auto slash = source_.find_last_of('/');
+    return slash == std::string::npos ? file : source_.substr(0, slash + 1) + file;
+  }
+
  private:
   std::string source_;
 };
@@ -150,6 +157,45 @@ void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& opti
   }
 }
 
+/// position [m] and orientation_rpy [rad] (fixed-axis roll about X, then pitch about Y, then yaw
+/// about Z, REP-103), both optional.
+Eigen::Isometry3d readPose(const Reader& r, const YAML::Node& node, const std::string& path) {
+  Vec3 position = Vec3::Zero(), rpy = Vec3::Zero();
+  if (node["position"]) position = r.vec3(node["position"], path + ".position");
+  if (node["orientation_rpy"]) rpy = r.vec3(node["orientation_rpy"], path + ".orientation_rpy");
+  return Eigen::Translation3d(position) * Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) *
+         Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) * Eigen::AngleAxisd(rpy.x(), Vec3::UnitX());
+}
+
+/// An OBJ file placed in the world: file (relative to the scene), position, orientation_rpy,
+/// scale. Errors from the file are reported on the 'file' field.
+TriangleMesh readPlacedMesh(const Reader& r, const YAML::Node& node, const std::string& path,
+                            std::string& resolved) {
+  if (!node["file"]) r.fail(path + ".file", "is required (an OBJ file)");
+  resolved = r.resolve(r.text(node["file"], path + ".file"));
+  double scale = 1.0;
+  if (node["scale"]) scale = r.number(node["scale"], path + ".scale", kPositive, "> 0");
+  try {
+    return loadObj(resolved).transformed(readPose(r, node, path), scale);
+  } catch (const std::invalid_argument& e) {
+    r.fail(path + ".file", e.what());
+  }
+}
+
+void readClothMesh(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
+  const std::string path = "cloth.mesh";
+  r.map(node, path, {"file", "position", "orientation_rpy", "scale"});
+  std::string resolved;
+  scene.mesh.mesh = readPlacedMesh(r, node, path, resolved);
+  scene.mesh.source = resolved;
+  try {
+    validateClothSurface(scene.mesh.mesh, resolved);
+  } catch (const std::invalid_argument& e) {
+    r.fail(path + ".file", e.what());
+  }
+  scene.cloth_kind = SceneConfig::ClothKind::kMesh;
+}
+
 void readGrid(const Reader& r, const YAML::Node& node, GridSpec& grid) {
   const std::string path = "cloth.grid";
   r.map(node, path, {"rows", "cols", "size", "position", "orientation_rpy"});
@@ -164,13 +210,7 @@ void readGrid(const Reader& r, const YAML::Node& node, GridSpec& grid) {
   }
   grid.width = r.number(size[0], path + ".size[0]", kPositive, "> 0 (width, m)");
   grid.height = r.number(size[1], path + ".size[1]", kPositive, "> 0 (height, m)");
-  Vec3 position = Vec3::Zero(), rpy = Vec3::Zero();
-  if (node["position"]) position = r.vec3(node["position"], path + ".position");
-  if (node["orientation_rpy"]) rpy = r.vec3(node["orientation_rpy"], path + ".orientation_rpy");
-  // Fixed-axis roll about X, then pitch about Y, then yaw about Z (REP-103).
-  grid.pose = Eigen::Translation3d(position) *
-              Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) *
-              Eigen::AngleAxisd(rpy.x(), Vec3::UnitX());
+  grid.pose = readPose(r, node, path);
 }
 
 void readMaterial(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
@@ -204,6 +244,18 @@ void readMaterial(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
     else if (p == "triangle") grid.shear_pattern = ShearPattern::kTriangle;
     else r.fail(path + ".shear_pattern", "value '" + p + "' must be 'both' or 'triangle'");
   }
+  if (scene.cloth_kind == SceneConfig::ClothKind::kMesh) {
+    const std::string why = "a mesh cloth has springs on its edges (structural) and across them "
+                            "(bending) only";
+    if (grid.has_shear) r.fail(sp + ".shear", why);
+    if (node["shear_pattern"]) r.fail(path + ".shear_pattern", why);
+    MeshSpec& mesh = scene.mesh;
+    mesh.areal_density = grid.areal_density;
+    mesh.has_structural = grid.has_structural;
+    mesh.structural = grid.structural;
+    mesh.has_bending = grid.has_bending;
+    mesh.bending = grid.bending;
+  }
 }
 
 /// Vertices of a grid edge: "top" (row 0), "bottom", "left" (col 0), "right" or "all".
@@ -221,31 +273,59 @@ std::vector<int> edgeVertices(const GridSpec& g, const std::string& edge) {
   return out;
 }
 
+/// Vertices whose rest position lies in the box {min: [x,y,z], max: [x,y,z]} (m, world).
+std::vector<int> regionVertices(const Reader& r, const YAML::Node& node, const std::string& path,
+                                const Points& rest) {
+  r.map(node, path, {"min", "max"});
+  if (!node["min"] || !node["max"]) r.fail(path, "needs 'min' and 'max' corners [x, y, z] in m");
+  const Eigen::AlignedBox3d box(r.vec3(node["min"], path + ".min"), r.vec3(node["max"], path + ".max"));
+  if (box.isEmpty()) r.fail(path, "'min' must not exceed 'max' on any axis");
+  std::vector<int> out;
+  for (Eigen::Index v = 0; v < rest.cols(); ++v) {
+    if (box.contains(Vec3(rest.col(v)))) out.push_back(static_cast<int>(v));
+  }
+  if (out.empty()) r.fail(path, "contains no vertex of the cloth");
+  return out;
+}
+
 void readPins(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
   if (!node.IsSequence()) r.fail("pins", "value " + Reader::show(node) + " must be a list");
+  const bool grid = scene.cloth_kind == SceneConfig::ClothKind::kGrid;
   const GridSpec& g = scene.grid;
+  const Points rest = buildCloth(scene).rest_positions;
   std::set<int> used;
   for (std::size_t k = 0; k < node.size(); ++k) {
     const std::string path = "pins[" + std::to_string(k) + "]";
     const YAML::Node p = node[k];
-    r.map(p, path, {"vertex", "row", "col", "edge", "target", "stiffness"});
-    const int ways = (p["vertex"] ? 1 : 0) + ((p["row"] || p["col"]) ? 1 : 0) + (p["edge"] ? 1 : 0);
+    r.map(p, path, {"vertex", "row", "col", "edge", "region", "target", "stiffness"});
+    const bool by_cell = p["row"] || p["col"];
+    const int ways = (p["vertex"] ? 1 : 0) + (by_cell ? 1 : 0) + (p["edge"] ? 1 : 0) +
+                     (p["region"] ? 1 : 0);
     if (ways != 1) {
-      r.fail(path, "give exactly one of 'vertex', 'row' + 'col', or 'edge'");
+      r.fail(path, "give exactly one of 'vertex', 'row' + 'col', 'edge' or 'region'");
+    }
+    if (!grid && (by_cell || p["edge"])) {
+      r.fail(path, "'row', 'col' and 'edge' need a grid cloth; use 'vertex' or 'region'");
     }
     double stiffness = 0.0;
     if (p["stiffness"]) {
       stiffness = r.number(p["stiffness"], path + ".stiffness", kNonNegative,
                            ">= 0 N/m (0 = hard pin)");
     }
-    if (p["edge"]) {
+    if (p["edge"] || p["region"]) {
       if (p["target"]) r.fail(path + ".target", "is only allowed for a single-vertex pin");
-      const std::string edge = r.text(p["edge"], path + ".edge");
-      if (edge != "top" && edge != "bottom" && edge != "left" && edge != "right" && edge != "all") {
-        r.fail(path + ".edge", "value '" + edge + "' must be top, bottom, left, right or all");
+      std::vector<int> vertices;
+      if (p["region"]) {
+        vertices = regionVertices(r, p["region"], path + ".region", rest);
+      } else {
+        const std::string edge = r.text(p["edge"], path + ".edge");
+        if (edge != "top" && edge != "bottom" && edge != "left" && edge != "right" && edge != "all") {
+          r.fail(path + ".edge", "value '" + edge + "' must be top, bottom, left, right or all");
+        }
+        vertices = edgeVertices(g, edge);
       }
-      // Corners shared by two edge entries are pinned once.
-      for (int v : edgeVertices(g, edge)) {
+      // Vertices already pinned by an earlier entry (shared corners) are pinned once.
+      for (int v : vertices) {
         if (used.insert(v).second) scene.pins.push_back(PinSpec{v, std::nullopt, stiffness});
       }
       continue;
@@ -253,7 +333,7 @@ void readPins(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
     PinSpec pin;
     pin.stiffness = stiffness;
     if (p["vertex"]) {
-      pin.vertex = r.integer(p["vertex"], path + ".vertex", 0, g.rows * g.cols - 1);
+      pin.vertex = r.integer(p["vertex"], path + ".vertex", 0, static_cast<long>(rest.cols()) - 1);
     } else {
       if (!p["row"] || !p["col"]) r.fail(path, "give both 'row' and 'col'");
       pin.vertex = gridVertex(r.integer(p["row"], path + ".row", 0, g.rows - 1),
@@ -267,14 +347,35 @@ void readPins(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
   }
 }
 
+void readMeshColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
+  if (!node.IsSequence()) r.fail("colliders.meshes", "must be a list");
+  for (std::size_t k = 0; k < node.size(); ++k) {
+    const std::string path = "colliders.meshes[" + std::to_string(k) + "]";
+    const YAML::Node m = node[k];
+    r.map(m, path, {"file", "position", "orientation_rpy", "scale", "thickness", "friction"});
+    MeshColliderSpec spec;
+    TriangleMesh mesh = readPlacedMesh(r, m, path, spec.file);
+    double thickness = 0.005, friction = 0.0;
+    if (m["thickness"]) thickness = r.number(m["thickness"], path + ".thickness", kPositive, "> 0 m");
+    if (m["friction"]) friction = r.number(m["friction"], path + ".friction", kNonNegative, ">= 0");
+    try {
+      spec.obstacle = std::make_shared<const MeshObstacle>(std::move(mesh), thickness, friction);
+    } catch (const std::invalid_argument& e) {
+      r.fail(path + ".file", e.what());
+    }
+    scene.meshes.push_back(std::move(spec));
+  }
+}
+
 void readColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
-  r.map(node, "colliders", {"spheres", "ground"});
+  r.map(node, "colliders", {"spheres", "meshes", "ground"});
+  if (node["meshes"]) readMeshColliders(r, node["meshes"], scene);
   if (const YAML::Node spheres = node["spheres"]) {
     if (!spheres.IsSequence()) r.fail("colliders.spheres", "must be a list");
     for (std::size_t k = 0; k < spheres.size(); ++k) {
       const std::string path = "colliders.spheres[" + std::to_string(k) + "]";
       const YAML::Node s = spheres[k];
-      r.map(s, path, {"center", "radius", "velocity", "friction"});
+      r.map(s, path, {"center", "radius", "velocity", "friction", "mass", "restitution"});
       if (!s["center"]) r.fail(path + ".center", "is required");
       if (!s["radius"]) r.fail(path + ".radius", "is required");
       SphereCollider sphere;
@@ -283,6 +384,13 @@ void readColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) 
       if (s["velocity"]) sphere.velocity = r.vec3(s["velocity"], path + ".velocity");
       if (s["friction"]) {
         sphere.friction = r.number(s["friction"], path + ".friction", kNonNegative, ">= 0");
+      }
+      if (s["mass"]) {
+        sphere.mass = r.number(s["mass"], path + ".mass", kNonNegative, ">= 0 kg (0 = kinematic)");
+      }
+      if (s["restitution"]) {
+        sphere.restitution = r.number(s["restitution"], path + ".restitution",
+                                      [](double v) { return v >= 0.0 && v <= 1.0; }, "in [0, 1]");
       }
       scene.spheres.push_back(sphere);
     }
@@ -327,9 +435,13 @@ SceneConfig parseScene(const std::string& yaml_text, const std::string& source) 
         r.number(root["divergence_strain"], "divergence_strain", kPositive, "> 0");
   }
   if (!root["cloth"]) r.fail("cloth", "is required");
-  r.map(root["cloth"], "cloth", {"grid"});
-  if (!root["cloth"]["grid"]) r.fail("cloth.grid", "is required");
-  readGrid(r, root["cloth"]["grid"], scene.grid);
+  const YAML::Node cloth = root["cloth"];
+  r.map(cloth, "cloth", {"grid", "mesh"});
+  if (static_cast<bool>(cloth["grid"]) == static_cast<bool>(cloth["mesh"])) {
+    r.fail("cloth", "give exactly one of 'grid' or 'mesh'");
+  }
+  if (cloth["grid"]) readGrid(r, cloth["grid"], scene.grid);
+  else readClothMesh(r, cloth["mesh"], scene);
   if (!root["material"]) r.fail("material", "is required");
   readMaterial(r, root["material"], scene);
   if (root["pins"]) readPins(r, root["pins"], scene);
@@ -351,11 +463,17 @@ SceneConfig loadSceneFile(const std::string& path) {
   return scene;
 }
 
-Simulation makeSimulation(const SceneConfig& scene) {
-  BuiltObject object = buildGrid(scene.grid);
+BuiltObject buildCloth(const SceneConfig& scene) {
+  BuiltObject object = scene.cloth_kind == SceneConfig::ClothKind::kGrid ? buildGrid(scene.grid)
+                                                                         : buildMeshObject(scene.mesh);
   object.model.time_step = scene.time_step;
   object.model.gravity = scene.gravity;
   object.model.damping = scene.damping;
+  return object;
+}
+
+Simulation makeSimulation(const SceneConfig& scene) {
+  BuiltObject object = buildCloth(scene);
   PinSet pins;
   for (const PinSpec& p : scene.pins) {
     pins.add(p.vertex, p.target.value_or(Vec3(object.rest_positions.col(p.vertex))), p.stiffness,
@@ -363,6 +481,7 @@ Simulation makeSimulation(const SceneConfig& scene) {
   }
   Colliders colliders;
   for (const SphereCollider& s : scene.spheres) colliders.addSphere(s);
+  for (const MeshColliderSpec& m : scene.meshes) colliders.addMesh(m.obstacle);
   colliders.setGround(scene.ground);
   return Simulation(std::move(object.model), object.rest_positions, std::move(pins),
                     std::move(colliders), scene.options);

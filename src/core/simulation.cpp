@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "cloth_sim/core/implicit_euler.h"
+#include "cloth_sim/core/sphere_impacts.h"
 #include "cloth_sim/core/spring_kernels.h"
 
 namespace cloth_sim {
@@ -66,8 +67,9 @@ StepReport Simulation::step() {
   const Colliders colliders_before = colliders_;
   const double h = model_.time_step;
 
-  colliders_.advance(h);
-  const SolverInput input{model_, pins_, revision_};
+  colliders_.advance(h, model_.gravity, velocityDecay(model_));
+  contacts_.bind(&colliders_, &movable_);
+  const SolverInput input{model_, pins_, revision_, colliders_.empty() ? nullptr : &contacts_};
   const auto t_solve = Clock::now();
   const SolveResult solved = solver_->step(input, options_.settings, state_);
   const auto t1 = Clock::now();
@@ -77,13 +79,18 @@ StepReport Simulation::step() {
   report.convergence = solved.convergence;
   report.converged = solved.converged;
   if (!colliders_.empty()) {
+    contacts_.finish(colliders_);
     report.contacts =
-        resolveCollisions(colliders_, h, movable_, before.positions, state_.positions,
-                          state_.velocities);
+        resolveCollisions(colliders_, h, model_.mass, movable_, before.positions, state_.positions,
+                          state_.velocities, solved.used_contacts);
+    report.contacts += resolveSphereImpacts(colliders_, 2.0 * model_.gravity.norm() * h);
   }
   report.max_strain = maxStrain(model_.springs, state_.positions);
 
-  const bool finite = state_.allFinite() && std::isfinite(report.max_strain);
+  bool finite = state_.allFinite() && std::isfinite(report.max_strain);
+  for (const SphereCollider& s : colliders_.spheres()) {
+    finite = finite && s.center.allFinite() && s.velocity.allFinite() && s.angular_velocity.allFinite();
+  }
   if (!finite || report.max_strain > options_.divergence_strain) {
     std::ostringstream msg;
     report.status = finite ? StepStatus::kDiverged : StepStatus::kNonFinite;
@@ -93,11 +100,18 @@ StepReport Simulation::step() {
     } else {
       msg << solver_->name() << " produced a non-finite position or velocity";
     }
-    msg << " at t = " << before.time << " s; rolled back to that state with zero velocities";
+    msg << " at t = " << before.time << " s; rolled back to that state with zero velocities"
+        << " (cloth and dynamic spheres)";
     report.message = msg.str();
     state_ = before;
     state_.velocities.setZero();
     colliders_ = colliders_before;
+    for (SphereCollider& s : colliders_.mutableSpheres()) {
+      if (!s.isDynamic()) continue;
+      s.velocity.setZero();
+      s.angular_velocity.setZero();
+    }
+    contacts_ = ContactForces();  // forget the warm start that led there
     report.max_strain = maxStrain(model_.springs, state_.positions);
   }
   report.solve_time = std::chrono::duration<double>(t1 - t_solve).count();

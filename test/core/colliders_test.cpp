@@ -13,9 +13,9 @@ const double kH = 1.0 / 60.0;
 struct Contact {
   Points start, end, velocities;
   int hits = 0;
-  Contact(const Colliders& c, const Vec3& from, const Vec3& to) : start(from), end(to) {
+  Contact(Colliders c, const Vec3& from, const Vec3& to) : start(from), end(to) {
     velocities = (end - start) / kH;
-    hits = resolveCollisions(c, kH, {1}, start, end, velocities);
+    hits = resolveCollisions(c, kH, Eigen::VectorXd::Ones(1), {1}, start, end, velocities);
   }
 };
 
@@ -40,7 +40,7 @@ TEST(Colliders, ParticleRestingOnTheGroundStaysAtRest) {
     const Points start = x;
     v.col(0) += kH * standardGravity();
     x += kH * v;
-    resolveCollisions(c, kH, {1}, start, x, v);
+    resolveCollisions(c, kH, Eigen::VectorXd::Ones(1), {1}, start, x, v);
     ASSERT_DOUBLE_EQ(x(2, 0), 0.5);
     ASSERT_EQ(v.col(0).norm(), 0.0);
   }
@@ -93,7 +93,7 @@ TEST(Colliders, ParticlesOutsideAreUntouchedAndPinnedOnesSkipped) {
   start.col(1) = Vec3(0, 0, 0.7);
   end.col(1) = Vec3(0, 0, 0.2);  // inside, but hard-pinned
   Points v = Points::Zero(3, 2);
-  EXPECT_EQ(resolveCollisions(c, kH, {1, 0}, start, end, v), 0);
+  EXPECT_EQ(resolveCollisions(c, kH, Eigen::VectorXd::Ones(2), {1, 0}, start, end, v), 0);
   EXPECT_EQ(end.col(1), Vec3(0, 0, 0.2));
 }
 

@@ -1,5 +1,7 @@
 #include <dirent.h>
 
+#include <tuple>
+
 #include <gtest/gtest.h>
 
 #include "cloth_sim/core/scene.h"
@@ -129,6 +131,60 @@ TEST(Scene, MalformedScenesAreRefusedNamingTheField) {
           << e.what();
     }
   }
+}
+
+std::string meshScene(const std::string& cloth_file, const std::string& extra) {
+  return "cloth:\n  mesh: {file: " + test::sourcePath(cloth_file) +
+         "}\nmaterial: {springs: {structural: 100}}\n" + extra;
+}
+
+TEST(Scene, MalformedMeshScenesAreRefusedNamingTheField) {
+  const std::string quad = "test/data/quad.obj";
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\n  mesh: {file: a.obj}\nmaterial: {springs: {shear: 1}}",
+       "cloth", "exactly one of 'grid' or 'mesh'"},
+      {"cloth:\n  mesh: {scale: 2}\nmaterial: {springs: {structural: 1}}", "cloth.mesh.file", "is required"},
+      {meshScene("test/data/missing.obj", ""), "cloth.mesh.file", "cannot open the OBJ file"},
+      {meshScene("test/data/nonmanifold.obj", ""), "cloth.mesh.file", "non-manifold edge (0, 1)"},
+      {meshScene("test/data/degenerate.obj", ""), "cloth.mesh.file", "triangle 1 (0, 1, 3) is degenerate"},
+      {"cloth:\n  mesh: {file: " + test::sourcePath(quad) + "}\nmaterial: {springs: {structural: 1, shear: 2}}",
+       "material.springs.shear", "a mesh cloth has springs on its edges"},
+      {meshScene(quad, "pins: [{row: 0, col: 0}]"), "pins[0]", "need a grid cloth"},
+      {meshScene(quad, "pins: [{vertex: 4}]"), "pins[0].vertex", "[0, 3]"},
+      {meshScene(quad, "pins: [{region: {min: [5, 5, 5], max: [6, 6, 6]}}]"), "pins[0].region",
+       "contains no vertex"},
+      {meshScene(quad, "pins: [{region: {min: [1, 1, 1], max: [0, 0, 0]}}]"), "pins[0].region",
+       "'min' must not exceed 'max'"},
+      {meshScene(quad, "colliders: {meshes: [{file: " + test::sourcePath(quad) + ", thickness: 0}]}"),
+       "colliders.meshes[0].thickness", "> 0 m"},
+      {meshScene(quad, "colliders: {meshes: [{file: " + test::sourcePath("test/data/degenerate.obj") + "}]}"),
+       "colliders.meshes[0].file", "degenerate"},
+  };
+  for (const auto& [yaml, field, fragment] : cases) {
+    try {
+      parseScene(yaml, "bad.yaml");
+      ADD_FAILURE() << "accepted: " << yaml;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(e.field(), field) << e.what();
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(Scene, MeshClothRegionPinsAndRelativeFiles) {
+  // Files are found relative to the scene file: the shipped tablecloth uses ../meshes/.
+  const SceneConfig table = loadSceneFile(test::sourcePath("config/scenes/tablecloth.yaml"));
+  EXPECT_EQ(table.cloth_kind, SceneConfig::ClothKind::kMesh);
+  EXPECT_EQ(table.mesh.mesh.vertexCount(), 1261);
+  EXPECT_EQ(table.meshes.size(), 1u);
+  EXPECT_NEAR(table.mesh.mesh.vertices(2, 0), 1.1, 1e-12);  // placed by cloth.mesh.position
+  // A region pin takes every vertex in the box: the quad's two corners at x = 1.
+  const SceneConfig q = parseScene(
+      meshScene("test/data/quad.obj", "pins: [{region: {min: [0.9, -1, -1], max: [1.1, 2, 1]}, stiffness: 30}]"),
+      "q.yaml");
+  ASSERT_EQ(q.pins.size(), 2u);
+  EXPECT_EQ(q.pins[0].stiffness, 30.0);
+  EXPECT_EQ(makeSimulation(q).pins().size(), 2u);
 }
 
 TEST(Scene, SyntaxErrorsAndMissingFilesAreReported) {

@@ -48,6 +48,8 @@ class LocalGlobalSolver : public Solver {
     if (trace_ != nullptr) trace_->clear();
   }
   bool tracing() const { return trace_ != nullptr; }
+  /// Whether this step solves contact forces (SolverInput::contacts was set).
+  bool solvesContacts() const { return contacts_ != nullptr; }
 
   ImplicitStepProblem problem_;
 
@@ -59,6 +61,8 @@ class LocalGlobalSolver : public Solver {
   DofMap dofs_;
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> factor_;
   Points rhs_constant_;            ///< 3 x N: M y + h^2 (m g + k_pin t + k x_boundary)
+  ContactForces* contacts_ = nullptr;  ///< this step's contact forces, or nullptr
+  Eigen::VectorXd compliance_;     ///< per particle: estimate of (A^-1)_ii (1/kg), 0 if pinned
   Points rhs_;                     ///< 3 x N work buffer
   Eigen::MatrixX3d reduced_rhs_;   ///< N_free x 3
   Eigen::MatrixX3d reduced_x_;     ///< N_free x 3

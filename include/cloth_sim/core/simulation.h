@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cloth_sim/core/colliders.h"
+#include "cloth_sim/core/contact_forces.h"
 #include "cloth_sim/core/model.h"
 #include "cloth_sim/core/pins.h"
 #include "cloth_sim/core/solver.h"
@@ -118,6 +119,7 @@ class Simulation {
   int retired_factorizations_ = 0;
   std::uint64_t revision_ = 1;
   std::vector<char> movable_;  ///< false for hard-pinned particles (collisions skip them)
+  ContactForces contacts_;     ///< in-solve contact forces, warm-started across steps
 };
 
 }  // namespace cloth_sim

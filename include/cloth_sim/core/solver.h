@@ -38,7 +38,11 @@ struct SolveResult {
   /// initial guess); 0 for the explicit solvers.
   double convergence = 0.0;
   bool converged = false;    ///< tolerance reached (always false when tolerance is 0)
+  /// The solver solved SolverInput::contacts with the step (local/global, chebyshev).
+  bool used_contacts = false;
 };
+
+class ContactForces;
 
 /// The parts of the world a solver reads besides the state.
 struct SolverInput {
@@ -47,6 +51,8 @@ struct SolverInput {
   /// Bumped whenever h, a stiffness, a mass or the set of pins changes: a solver holding a
   /// factorization refactors when it sees a new value, and only then.
   std::uint64_t revision;
+  /// Contact forces to solve with the step (local/global and chebyshev do), or nullptr.
+  ContactForces* contacts = nullptr;
 };
 
 /// A time integrator for the mass-spring model. It moves @c state by one step of
