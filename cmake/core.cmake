@@ -7,6 +7,7 @@ add_library(cloth_sim_core
   src/core/dof_map.cpp
   src/core/spring_kernels.cpp
   src/core/sparse_pattern.cpp
+  src/core/cholmod_factor.cpp
   src/core/implicit_euler.cpp
   src/core/explicit_solvers.cpp
   src/core/newton_solver.cpp
@@ -17,8 +18,13 @@ add_library(cloth_sim_core
   src/core/simulation.cpp
   src/core/scene.cpp
 )
+# CHOLMOD (SuiteSparse, Debian libsuitesparse-dev): no CMake package in Debian 12, so found by
+# hand. Private: its headers stay in src/core/cholmod_factor.cpp.
+find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
 target_include_directories(cloth_sim_core PUBLIC include ${EIGEN3_INCLUDE_DIRS})
-target_link_libraries(cloth_sim_core PUBLIC yaml-cpp)
+target_include_directories(cloth_sim_core PRIVATE ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(cloth_sim_core PUBLIC yaml-cpp PRIVATE ${CHOLMOD_LIBRARY})
 set_target_properties(cloth_sim_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
 
@@ -28,7 +34,7 @@ if(CATKIN_ENABLE_TESTING)
   set(CORE_TESTS
     model_test pins_test spring_kernels_test implicit_euler_test explicit_solvers_test
     newton_solver_test local_global_solver_test colliders_test grid_builder_test
-    simulation_test scene_test)
+    simulation_test scene_test cholmod_factor_test)
   foreach(t ${CORE_TESTS})
     catkin_add_gtest(${t} test/core/${t}.cpp test/core/test_util.cpp
                      WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

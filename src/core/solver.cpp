@@ -9,6 +9,22 @@
 
 namespace cloth_sim {
 
+const char* linearSolverName(LinearSolver solver) {
+  switch (solver) {
+    case LinearSolver::kFused: return "fused";
+    case LinearSolver::kCholmod: return "cholmod";
+    case LinearSolver::kEigen: return "eigen";
+  }
+  return "unknown";
+}
+
+LinearSolver linearSolverFromName(const std::string& name) {
+  for (LinearSolver s : {LinearSolver::kFused, LinearSolver::kCholmod, LinearSolver::kEigen}) {
+    if (name == linearSolverName(s)) return s;
+  }
+  throw std::invalid_argument("unknown linear solver '" + name + "' (known: fused, cholmod, eigen)");
+}
+
 void SolverSettings::validate() const {
   if (max_iterations < 1) {
     throw std::invalid_argument("solver iterations = " + std::to_string(max_iterations) +

@@ -12,6 +12,19 @@
 
 namespace cloth_sim {
 
+/// How local/global and chebyshev solve their global step (M + h^2 L) x = b, and how newton
+/// factors its Hessian (kEigen: Eigen SimplicialLLT; the others: CHOLMOD supernodal). All give
+/// the same iterates to round-off; they differ in speed only (README, "Performance").
+enum class LinearSolver {
+  kFused,    ///< CHOLMOD factor (AMD or METIS ordering), hand-written fused 3-column solves
+  kCholmod,  ///< CHOLMOD factor and CHOLMOD's own solve, x, y and z as three columns
+  kEigen,    ///< Eigen SimplicialLLT (AMD) and its solve: the first implementation, kept to compare
+};
+/// "fused", "cholmod", "eigen".
+const char* linearSolverName(LinearSolver solver);
+/// The LinearSolver called @p name; throws std::invalid_argument listing the names if unknown.
+LinearSolver linearSolverFromName(const std::string& name);
+
 /// Iteration controls shared by the solvers (each uses what applies to it).
 struct SolverSettings {
   /// Iterations per step: local/global and chebyshev run exactly this many unless tolerance
@@ -26,6 +39,8 @@ struct SolverSettings {
   double chebyshev_gamma = 0.9;
   /// chebyshev: plain local/global iterations before acceleration starts (Wang's S), >= 1.
   int chebyshev_delay = 3;
+  /// How the linear systems are solved (same result, different speed), see LinearSolver.
+  LinearSolver linear_solver = LinearSolver::kFused;
 
   /// Throws std::invalid_argument naming the first field out of its range.
   void validate() const;
