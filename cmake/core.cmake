@@ -8,6 +8,9 @@ add_library(cloth_sim_core
   src/core/spring_kernels.cpp
   src/core/sparse_pattern.cpp
   src/core/cholmod_factor.cpp
+  src/core/triangular_kernels.cpp
+  src/core/local_step.cpp
+  src/core/scalar_system.cpp
   src/core/implicit_euler.cpp
   src/core/explicit_solvers.cpp
   src/core/newton_solver.cpp
@@ -34,7 +37,8 @@ if(CATKIN_ENABLE_TESTING)
   set(CORE_TESTS
     model_test pins_test spring_kernels_test implicit_euler_test explicit_solvers_test
     newton_solver_test local_global_solver_test colliders_test grid_builder_test
-    simulation_test scene_test cholmod_factor_test)
+    simulation_test scene_test cholmod_factor_test triangular_kernels_test local_step_test
+    scalar_system_test)
   foreach(t ${CORE_TESTS})
     catkin_add_gtest(${t} test/core/${t}.cpp test/core/test_util.cpp
                      WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

@@ -2,33 +2,52 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
-#include "cloth_sim/core/spring_kernels.h"
+#include <Eigen/SparseCore>
+
+#include "cloth_sim/core/dof_map.h"
 
 namespace cloth_sim {
+namespace {
 
-void LocalGlobalSolver::factorize(const SolverInput& in) {
+Eigen::Map<Eigen::VectorXd> view(NodeBuffer& v) {
+  return Eigen::Map<Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+Eigen::Map<const Eigen::VectorXd> view(const NodeBuffer& v) {
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+
+/// |next - current| / |next - start|: the convergence measure of SolveResult.
+double relativeChange(const NodeBuffer& next, const NodeBuffer& current, const NodeBuffer& start) {
+  const double moved = (view(next) - view(start)).norm();
+  return moved > 0.0 ? (view(next) - view(current)).norm() / moved : 0.0;
+}
+
+}  // namespace
+
+void LocalGlobalSolver::factorize(const SolverInput& in, LinearSolver backend) {
   const Model& model = in.model;
   const Springs& springs = model.springs;
   const double h2 = model.time_step * model.time_step;
-  dofs_ = DofMap::fromPins(model.particleCount(), in.pins);
-  const int nf = dofs_.freeCount();
+  const DofMap dofs = DofMap::fromPins(model.particleCount(), in.pins);
+  const int nf = dofs.freeCount();
 
   // A = M + h^2 L over the free particles; a spring to a hard-pinned particle keeps only its
   // diagonal term (its coupling moves to the right-hand side, see beginStep).
   std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(nf + 3 * springs.size() + in.pins.size());
-  for (int f = 0; f < nf; ++f) entries.emplace_back(f, f, model.mass[dofs_.free_particles[f]]);
+  entries.reserve(nf + 4 * springs.size() + in.pins.size());
+  for (int f = 0; f < nf; ++f) entries.emplace_back(f, f, model.mass[dofs.free_particles[f]]);
   for (const Pin& pin : in.pins.pins()) {
     if (!pin.isHard()) {
-      const int f = dofs_.reduced_index[pin.vertex];
+      const int f = dofs.reduced_index[pin.vertex];
       entries.emplace_back(f, f, h2 * pin.stiffness);
     }
   }
   for (std::size_t s = 0; s < springs.size(); ++s) {
-    const int i = dofs_.reduced_index[springs.first[s]], j = dofs_.reduced_index[springs.second[s]];
+    const int i = dofs.reduced_index[springs.first[s]], j = dofs.reduced_index[springs.second[s]];
     const double k = h2 * springs.stiffness[s];
     if (i >= 0) entries.emplace_back(i, i, k);
     if (j >= 0) entries.emplace_back(j, j, k);
@@ -39,90 +58,150 @@ void LocalGlobalSolver::factorize(const SolverInput& in) {
   }
   Eigen::SparseMatrix<double> system(nf, nf);
   system.setFromTriplets(entries.begin(), entries.end());
-  if (nf > 0) {
-    factor_.compute(system);
-    ++factorizations_;
+  system.makeCompressed();
+  system_.factor(system, backend);
+  if (nf > 0) ++factorizations_;
+
+  // Node order: free particles in the system's order, then the hard-pinned ones.
+  free_count_ = nf;
+  const int n = model.particleCount();
+  node_particle_.clear();
+  for (int k = 0; k < nf; ++k) node_particle_.push_back(dofs.free_particles[system_.order()[k]]);
+  for (int p = 0; p < n; ++p) {
+    if (!dofs.isFree(p)) node_particle_.push_back(p);
   }
-  reduced_rhs_.resize(nf, 3);
-  reduced_x_.resize(nf, 3);
+  particle_node_.assign(n, 0);
+  node_mass_.resize(n);
+  for (int k = 0; k < n; ++k) {
+    particle_node_[node_particle_[k]] = k;
+    node_mass_[k] = model.mass[node_particle_[k]];
+  }
+
+  springs_ = SpringTable{};
+  pinned_springs_ = SpringTable{};
+  boundary_free_.clear();
+  boundary_pinned_.clear();
+  boundary_weight_.clear();
+  for (std::size_t s = 0; s < springs.size(); ++s) {
+    const int a = particle_node_[springs.first[s]], b = particle_node_[springs.second[s]];
+    const double k = springs.stiffness[s], r = springs.rest_length[s];
+    const bool free_a = a < nf, free_b = b < nf;
+    if (!free_a && !free_b) {
+      pinned_springs_.add(a, b, 0.0, k, r);
+      continue;
+    }
+    springs_.add(a, b, h2 * k * r, k, r);
+    if (free_a != free_b) {
+      boundary_free_.push_back(free_a ? a : b);
+      boundary_pinned_.push_back(free_a ? b : a);
+      boundary_weight_.push_back(h2 * k);
+    }
+  }
+  springs_.sortByNode();
   prepared_revision_ = in.revision;
   prepared_ = true;
 }
 
-void LocalGlobalSolver::beginStep(const SolverInput& in, const State& state) {
-  if (!prepared_ || prepared_revision_ != in.revision) factorize(in);
+void LocalGlobalSolver::beginStep(const SolverInput& in, const SolverSettings& settings,
+                                  const State& state) {
+  if (!prepared_ || prepared_revision_ != in.revision ||
+      system_.backend() != settings.linear_solver) {
+    factorize(in, settings.linear_solver);
+  }
   const Model& model = in.model;
   problem_ = ImplicitStepProblem::build(model, in.pins, state);
-  const double h2 = problem_.h * problem_.h;
+  h_ = problem_.h;
+  gravity_ = model.gravity;
+  const double h2 = h_ * h_;
+  const int n = model.particleCount();
   const Points& y = problem_.inertial;
 
-  rhs_constant_ = (y + h2 * model.gravity.replicate(1, y.cols())) * model.mass.asDiagonal();
+  inertial_.assign(static_cast<std::size_t>(kNodeStride) * n, 0.0);
+  rhs_constant_.assign(inertial_.size(), 0.0);
+  for (int k = 0; k < n; ++k) {
+    const int p = node_particle_[k];
+    const double m = node_mass_[k];
+    for (int c = 0; c < 3; ++c) {
+      inertial_[kNodeStride * k + c] = y(c, p);
+      rhs_constant_[kNodeStride * k + c] = m * (y(c, p) + h2 * model.gravity[c]);
+    }
+  }
   for (const Pin& pin : in.pins.pins()) {
-    if (!pin.isHard()) rhs_constant_.col(pin.vertex) += h2 * pin.stiffness * pin.target;
+    if (pin.isHard()) continue;
+    double* r = &rhs_constant_[kNodeStride * particle_node_[pin.vertex]];
+    for (int c = 0; c < 3; ++c) r[c] += h2 * pin.stiffness * pin.target[c];
   }
-  const Springs& springs = model.springs;
-  for (std::size_t s = 0; s < springs.size(); ++s) {
-    const int i = springs.first[s], j = springs.second[s];
-    const bool free_i = dofs_.isFree(i), free_j = dofs_.isFree(j);
-    if (free_i == free_j) continue;
-    // Boundary spring: the pinned end's position is known; move its coupling to the rhs.
-    const double k = h2 * springs.stiffness[s];
-    if (free_i) rhs_constant_.col(i) += k * y.col(j);
-    else rhs_constant_.col(j) += k * y.col(i);
+  for (std::size_t s = 0; s < boundary_free_.size(); ++s) {
+    double* r = &rhs_constant_[kNodeStride * boundary_free_[s]];
+    const double* yp = &inertial_[kNodeStride * boundary_pinned_[s]];
+    for (int c = 0; c < 3; ++c) r[c] += boundary_weight_[s] * yp[c];
   }
+  constant_energy_ = springEnergy3(pinned_springs_, inertial_.data());
 }
 
-double LocalGlobalSolver::iterate(const Points& x, Points& x_next) {
-  const Springs& springs = problem_.model->springs;
-  const double h2 = problem_.h * problem_.h;
-  rhs_ = rhs_constant_;
-  double spring_energy = 0.0;
-  const std::size_t m = springs.size();
-  for (std::size_t s = 0; s < m; ++s) {
-    // Local step (fused with the J d product): d_s = r_s (x_i - x_j)/|x_i - x_j|.
-    const int i = springs.first[s], j = springs.second[s];
-    const Vec3 d = x.col(i) - x.col(j);
-    const double len = d.norm();
-    const double stretch = len - springs.rest_length[s];
-    spring_energy += 0.5 * springs.stiffness[s] * stretch * stretch;
-    const Vec3 push = (h2 * springs.stiffness[s] * springs.rest_length[s]) * safeDirection(d);
-    rhs_.col(i) += push;
-    rhs_.col(j) -= push;
+double LocalGlobalSolver::pinEnergy(const NodeBuffer& x) const {
+  double e = 0.0;
+  for (const Pin& pin : problem_.pins->pins()) {
+    if (pin.isHard()) continue;
+    const double* xp = &x[kNodeStride * particle_node_[pin.vertex]];
+    e += 0.5 * pin.stiffness * (Vec3(xp[0], xp[1], xp[2]) - pin.target).squaredNorm();
   }
-  // Global step: one scalar factor, three right-hand sides.
-  const int nf = dofs_.freeCount();
-  for (int f = 0; f < nf; ++f) reduced_rhs_.row(f) = rhs_.col(dofs_.free_particles[f]).transpose();
-  if (nf > 0) reduced_x_ = factor_.solve(reduced_rhs_);
-  x_next = x;
-  for (int f = 0; f < nf; ++f) x_next.col(dofs_.free_particles[f]) = reduced_x_.row(f).transpose();
-  return problem_.objective(x, spring_energy);
+  return e;
 }
 
-namespace {
-double relativeChange(const Points& next, const Points& current, const Points& start) {
-  const double moved = (next - start).norm();
-  return moved > 0.0 ? (next - current).norm() / moved : 0.0;
+double LocalGlobalSolver::iterate(const NodeBuffer& x, NodeBuffer& x_next) {
+  const double h2 = h_ * h_;
+  x_next = rhs_constant_;
+  const double spring_energy = localStep3(springs_, x.data(), x_next.data());
+  system_.solveInPlace(x_next.data());  // global step: the free nodes, x, y and z at once
+  const std::size_t pinned_begin = static_cast<std::size_t>(kNodeStride) * free_count_;
+  std::copy(x.begin() + pinned_begin, x.end(), x_next.begin() + pinned_begin);
+  return inertiaAndGravity(x.data(), inertial_.data(), node_mass_.data(),
+                           static_cast<int>(node_mass_.size()), gravity_, h2) +
+         h2 * (spring_energy + constant_energy_ + pinEnergy(x));
 }
-}  // namespace
+
+double LocalGlobalSolver::objectiveAt(const NodeBuffer& x) const {
+  const double h2 = h_ * h_;
+  return inertiaAndGravity(x.data(), inertial_.data(), node_mass_.data(),
+                           static_cast<int>(node_mass_.size()), gravity_, h2) +
+         h2 * (springEnergy3(springs_, x.data()) + constant_energy_ + pinEnergy(x));
+}
+
+void LocalGlobalSolver::finishStep(const NodeBuffer& x, State& state) const {
+  Points positions(3, static_cast<Eigen::Index>(node_particle_.size()));
+  for (std::size_t k = 0; k < node_particle_.size(); ++k)
+    for (int c = 0; c < 3; ++c) positions(c, node_particle_[k]) = x[kNodeStride * k + c];
+  state = problem_.finish(positions, state.time);
+}
+
+void LocalGlobalSolver::observe(int k, const NodeBuffer& x) const {
+  if (!observer_) return;
+  observed_.resize(3, static_cast<Eigen::Index>(node_particle_.size()));
+  for (std::size_t n = 0; n < node_particle_.size(); ++n)
+    for (int c = 0; c < 3; ++c) observed_(c, node_particle_[n]) = x[kNodeStride * n + c];
+  observer_(k, observed_);
+}
 
 SolveResult LocalGlobalSolver::step(const SolverInput& in, const SolverSettings& settings,
                                     State& state) {
-  beginStep(in, state);
+  beginStep(in, settings, state);
   clearTrace();
-  Points x = problem_.inertial, x_next;
+  NodeBuffer x = inertial_, x_next(x.size());
   SolveResult result;
   for (int k = 0; k < settings.max_iterations; ++k) {
     recordTrace(iterate(x, x_next));
     result.iterations = k + 1;
-    result.convergence = relativeChange(x_next, x, problem_.inertial);
+    result.convergence = relativeChange(x_next, x, inertial_);
     x.swap(x_next);
+    observe(k + 1, x);
     if (settings.tolerance > 0.0 && result.convergence < settings.tolerance) {
       result.converged = true;
       break;
     }
   }
   if (tracing()) recordTrace(objectiveAt(x));
-  state = problem_.finish(x, state.time);
+  finishStep(x, state);
   return result;
 }
 
@@ -130,11 +209,11 @@ double ChebyshevSolver::calibrateRho(const SolverSettings& settings) {
   // Plain local/global contracts the error by about rho per iteration once the fast modes are
   // gone; measure it as the geometric mean of the last update-norm ratios.
   constexpr int kIterations = 30, kAveraged = 5;
-  Points x = problem_.inertial, x_next;
+  NodeBuffer x = inertial(), x_next(x.size());
   std::vector<double> updates;
   for (int k = 0; k < std::max(kIterations, settings.max_iterations); ++k) {
     iterate(x, x_next);
-    updates.push_back((x_next - x).norm());
+    updates.push_back((view(x_next) - view(x)).norm());
     x.swap(x_next);
   }
   const std::size_t last = updates.size() - 1;
@@ -145,7 +224,7 @@ double ChebyshevSolver::calibrateRho(const SolverSettings& settings) {
 
 SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& settings,
                                   State& state) {
-  beginStep(in, state);
+  beginStep(in, settings, state);
   if (settings.chebyshev_rho > 0.0) {
     rho_ = settings.chebyshev_rho;
   } else if (!calibrated_ || calibrated_revision_ != in.revision) {
@@ -155,9 +234,9 @@ SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& s
   }
   const double gamma = settings.chebyshev_gamma;
   const int delay = settings.chebyshev_delay;
-  const Points& start = problem_.inertial;
+  const NodeBuffer& start = inertial();
 
-  Points x = start, x_prev = start, x_hat, x_hat_prev, x_next;
+  NodeBuffer x = start, x_prev = start, x_hat(x.size()), x_hat_prev(x.size()), x_next(x.size());
   double g_prev = std::numeric_limits<double>::infinity();
   double omega = 1.0;
   int since_restart = 0, solves = 0;
@@ -186,7 +265,8 @@ SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& s
     } else {
       omega = (since_restart == delay) ? 2.0 / (2.0 - rho_ * rho_)
                                        : 4.0 / (4.0 - rho_ * rho_ * omega);
-      x_next = omega * (gamma * (x_hat - x) + x - x_prev) + x_prev;
+      view(x_next) = omega * (gamma * (view(x_hat) - view(x)) + view(x) - view(x_prev)) +
+                     view(x_prev);
       accelerated = true;
     }
     result.iterations = solves;
@@ -195,6 +275,9 @@ SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& s
     x_hat_prev.swap(x_hat);
     g_prev = g;
     x.swap(x_next);
+    if (observing()) {  // what the step would return if it stopped here (see the end)
+      observe(solves, accelerated && objectiveAt(x) > objectiveAt(x_hat_prev) ? x_hat_prev : x);
+    }
     if (settings.tolerance > 0.0 && result.convergence < settings.tolerance) {
       result.converged = true;
       break;
@@ -205,7 +288,7 @@ SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& s
   // iterate it was built from (two spring passes, no solve).
   if (accelerated && objectiveAt(x) > objectiveAt(x_hat_prev)) x = x_hat_prev;
   if (tracing()) recordTrace(objectiveAt(x));
-  state = problem_.finish(x, state.time);
+  finishStep(x, state);
   return result;
 }
 

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <memory>
 
 #include <gtest/gtest.h>
 
@@ -89,6 +90,56 @@ TEST(LocalGlobal, FactorKeptAcrossStepsAndTargetMoves) {
   lg.step({c.g.model, c.pins, 8}, SolverSettings{}, s);  // a new revision: refactor once
   lg.step({c.g.model, c.pins, 8}, SolverSettings{}, s);
   EXPECT_EQ(lg.factorizationCount(), 2);
+}
+
+TEST(LocalGlobal, EveryLinearSolverGivesTheSameTrajectory) {
+  // The hand-written kernels and the two libraries differ in speed only.
+  SwingingCloth c;
+  std::vector<Points> results;
+  for (LinearSolver backend : {LinearSolver::kFused, LinearSolver::kCholmod, LinearSolver::kEigen}) {
+    LocalGlobalSolver lg;
+    SolverSettings settings;
+    settings.linear_solver = backend;
+    State s = c.state;
+    for (int k = 0; k < 20; ++k) lg.step(c.input(), settings, s);
+    results.push_back(s.positions);
+  }
+  EXPECT_LT((results[1] - results[0]).norm(), 1e-11 * results[0].norm());
+  EXPECT_LT((results[2] - results[0]).norm(), 1e-11 * results[0].norm());
+}
+
+TEST(LocalGlobal, SwitchingLinearSolverRefactorsOnce) {
+  SwingingCloth c;
+  LocalGlobalSolver lg;
+  SolverSettings settings;
+  State s = c.state;
+  lg.step(c.input(), settings, s);
+  settings.linear_solver = LinearSolver::kEigen;
+  lg.step(c.input(), settings, s);
+  lg.step(c.input(), settings, s);
+  EXPECT_EQ(lg.factorizationCount(), 2);
+}
+
+TEST(LocalGlobal, ObserverSeesEveryIterateAndTheLastIsTheResult) {
+  SwingingCloth c;
+  for (bool chebyshev : {false, true}) {
+    std::unique_ptr<LocalGlobalSolver> solver;
+    if (chebyshev) solver = std::make_unique<ChebyshevSolver>();
+    else solver = std::make_unique<LocalGlobalSolver>();
+    State s = c.state;
+    solver->step(c.input(), SolverSettings{}, s);  // chebyshev: measures rho first
+    std::vector<int> seen;
+    Points last;
+    solver->setIterateObserver([&](int k, const Points& x) {
+      seen.push_back(k);
+      last = x;
+    });
+    s = c.state;
+    solver->step(c.input(), test::convergedSettings(12, 0.0), s);
+    ASSERT_EQ(seen.size(), 12u) << solver->name();
+    for (int k = 0; k < 12; ++k) EXPECT_EQ(seen[k], k + 1);
+    EXPECT_EQ(last, s.positions) << solver->name();
+  }
 }
 
 TEST(Chebyshev, ConvergesToNewtonsSolution) {

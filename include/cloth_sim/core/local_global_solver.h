@@ -2,13 +2,12 @@
 /// Liu, Bargteil, O'Brien, Kavan 2013, "Fast Simulation of Mass-Spring Systems", ACM TOG 32(6).
 #pragma once
 
+#include <functional>
 #include <vector>
 
-#include <Eigen/Core>
-#include <Eigen/SparseCholesky>
-
-#include "cloth_sim/core/dof_map.h"
 #include "cloth_sim/core/implicit_euler.h"
+#include "cloth_sim/core/local_step.h"
+#include "cloth_sim/core/scalar_system.h"
 #include "cloth_sim/core/solver.h"
 
 namespace cloth_sim {
@@ -18,8 +17,12 @@ namespace cloth_sim {
 ///  - global step: (M + h^2 L) x = M y + h^2 (J d + m g + soft-pin and boundary terms).
 /// L = L_scalar (x) I3, so ONE scalar N_free x N_free sparse Cholesky factor serves x, y and z
 /// (a three-column solve). The factor is kept across steps and recomputed only when the
-/// SolverInput revision changes (h, a stiffness, a mass or the pin set). Moving a pin target
-/// only changes the right-hand side.
+/// SolverInput revision or SolverSettings::linear_solver changes (h, a stiffness, a mass or the
+/// pin set). Moving a pin target only changes the right-hand side.
+///
+/// Inside a step everything lives in the factor's node order and a padded x, y, z, 0 layout, so
+/// an iteration is two streaming passes (springs, then the fused triangular solves) and no
+/// permutation or gather (README, "Performance").
 ///
 /// g never increases from one iterate to the next; the iterates converge (linearly) to the
 /// implicit Euler solution that NewtonSolver finds. The initial guess is the inertial prediction y.
@@ -33,14 +36,32 @@ class LocalGlobalSolver : public Solver {
   /// the initial guess and every iterate. Costs one spring pass per step. nullptr disables.
   void setObjectiveTrace(std::vector<double>* trace) { trace_ = trace; }
 
+  /// Diagnostic hook (benchmark): called after iteration k (1, 2, ...) with the iterate x_k
+  /// (m, all particles). It is the iterate the step would return if it stopped there. Costs a
+  /// conversion per iteration. An empty function disables.
+  using IterateObserver = std::function<void(int, const Points&)>;
+  void setIterateObserver(IterateObserver observer) { observer_ = std::move(observer); }
+
+  /// The global step's factored system (valid after the first step).
+  const ScalarSystem& system() const { return system_; }
+  /// The springs as the local step sees them (valid after the first step).
+  const SpringTable& springTable() const { return springs_; }
+
  protected:
-  /// Refactors when the revision changed; builds the constant right-hand side of this step.
-  void beginStep(const SolverInput& input, const State& state);
+  /// Refactors if needed; builds y and the constant part of the right-hand side.
+  void beginStep(const SolverInput& input, const SolverSettings& settings, const State& state);
   /// One local + global iteration from @p x into @p x_next (hard pins kept at their targets).
   /// Returns g(x), which the local step gets almost for free.
-  double iterate(const Points& x, Points& x_next);
+  double iterate(const NodeBuffer& x, NodeBuffer& x_next);
   /// g(x) with one spring pass and no solve.
-  double objectiveAt(const Points& x) const { return problem_.objective(x); }
+  double objectiveAt(const NodeBuffer& x) const;
+  /// The initial guess y of this step, in node order.
+  const NodeBuffer& inertial() const { return inertial_; }
+  /// Ends the step: positions @p x, velocities (x - x_n) / h, time + h.
+  void finishStep(const NodeBuffer& x, State& state) const;
+  void observe(int k, const NodeBuffer& x) const;
+  bool observing() const { return static_cast<bool>(observer_); }
+
   void recordTrace(double g) {
     if (trace_ != nullptr) trace_->push_back(g);
   }
@@ -49,19 +70,31 @@ class LocalGlobalSolver : public Solver {
   }
   bool tracing() const { return trace_ != nullptr; }
 
-  ImplicitStepProblem problem_;
-
  private:
-  void factorize(const SolverInput& input);
+  void factorize(const SolverInput& input, LinearSolver backend);
+  double pinEnergy(const NodeBuffer& x) const;
 
   std::uint64_t prepared_revision_ = 0;
   bool prepared_ = false;
-  DofMap dofs_;
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> factor_;
-  Points rhs_constant_;            ///< 3 x N: M y + h^2 (m g + k_pin t + k x_boundary)
-  Points rhs_;                     ///< 3 x N work buffer
-  Eigen::MatrixX3d reduced_rhs_;   ///< N_free x 3
-  Eigen::MatrixX3d reduced_x_;     ///< N_free x 3
+  ScalarSystem system_;
+  int free_count_ = 0;
+  std::vector<int> node_particle_;  ///< node -> particle: free nodes in system order, then hard pins
+  std::vector<int> particle_node_;  ///< particle -> node
+  std::vector<double> node_mass_;   ///< kg, per node
+  SpringTable springs_;             ///< springs with at least one free end
+  /// Boundary terms of the rhs: h^2 k_s y_pinned on the free end of a free-to-pinned spring.
+  std::vector<int> boundary_free_, boundary_pinned_;
+  std::vector<double> boundary_weight_;
+  SpringTable pinned_springs_;      ///< springs with two pinned ends: constant energy
+  double h_ = 0.0;
+  Vec3 gravity_ = Vec3::Zero();
+
+  ImplicitStepProblem problem_;
+  NodeBuffer inertial_;             ///< y
+  NodeBuffer rhs_constant_;         ///< M y + h^2 (m g + k_pin t + k x_boundary)
+  double constant_energy_ = 0.0;    ///< springs between pinned nodes, J
+  mutable Points observed_;
+  IterateObserver observer_;
   std::vector<double>* trace_ = nullptr;
 };
 
