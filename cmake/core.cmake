@@ -15,6 +15,7 @@ add_library(cloth_sim_core
   src/core/explicit_solvers.cpp
   src/core/newton_solver.cpp
   src/core/local_global_solver.cpp
+  src/core/local_global_3n_solver.cpp
   src/core/solver.cpp
   src/core/colliders.cpp
   src/core/grid_builder.cpp
@@ -38,7 +39,7 @@ if(CATKIN_ENABLE_TESTING)
     model_test pins_test spring_kernels_test implicit_euler_test explicit_solvers_test
     newton_solver_test local_global_solver_test colliders_test grid_builder_test
     simulation_test scene_test cholmod_factor_test triangular_kernels_test local_step_test
-    scalar_system_test)
+    scalar_system_test local_global_3n_solver_test)
   foreach(t ${CORE_TESTS})
     catkin_add_gtest(${t} test/core/${t}.cpp test/core/test_util.cpp
                      WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

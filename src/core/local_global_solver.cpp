@@ -6,9 +6,6 @@
 #include <limits>
 #include <vector>
 
-#include <Eigen/SparseCore>
-
-#include "cloth_sim/core/dof_map.h"
 
 namespace cloth_sim {
 namespace {
@@ -32,34 +29,11 @@ void LocalGlobalSolver::factorize(const SolverInput& in, LinearSolver backend) {
   const Model& model = in.model;
   const Springs& springs = model.springs;
   const double h2 = model.time_step * model.time_step;
-  const DofMap dofs = DofMap::fromPins(model.particleCount(), in.pins);
+  dofs_ = DofMap::fromPins(model.particleCount(), in.pins);
+  const DofMap& dofs = dofs_;
   const int nf = dofs.freeCount();
 
-  // A = M + h^2 L over the free particles; a spring to a hard-pinned particle keeps only its
-  // diagonal term (its coupling moves to the right-hand side, see beginStep).
-  std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(nf + 4 * springs.size() + in.pins.size());
-  for (int f = 0; f < nf; ++f) entries.emplace_back(f, f, model.mass[dofs.free_particles[f]]);
-  for (const Pin& pin : in.pins.pins()) {
-    if (!pin.isHard()) {
-      const int f = dofs.reduced_index[pin.vertex];
-      entries.emplace_back(f, f, h2 * pin.stiffness);
-    }
-  }
-  for (std::size_t s = 0; s < springs.size(); ++s) {
-    const int i = dofs.reduced_index[springs.first[s]], j = dofs.reduced_index[springs.second[s]];
-    const double k = h2 * springs.stiffness[s];
-    if (i >= 0) entries.emplace_back(i, i, k);
-    if (j >= 0) entries.emplace_back(j, j, k);
-    if (i >= 0 && j >= 0) {
-      entries.emplace_back(i, j, -k);
-      entries.emplace_back(j, i, -k);
-    }
-  }
-  Eigen::SparseMatrix<double> system(nf, nf);
-  system.setFromTriplets(entries.begin(), entries.end());
-  system.makeCompressed();
-  system_.factor(system, backend);
+  system_.factor(globalStepMatrix(model, in.pins, dofs), backend);
   if (nf > 0) ++factorizations_;
 
   // Node order: free particles in the system's order, then the hard-pinned ones.
@@ -79,23 +53,14 @@ void LocalGlobalSolver::factorize(const SolverInput& in, LinearSolver backend) {
 
   springs_ = SpringTable{};
   pinned_springs_ = SpringTable{};
-  boundary_free_.clear();
-  boundary_pinned_.clear();
-  boundary_weight_.clear();
   for (std::size_t s = 0; s < springs.size(); ++s) {
     const int a = particle_node_[springs.first[s]], b = particle_node_[springs.second[s]];
     const double k = springs.stiffness[s], r = springs.rest_length[s];
-    const bool free_a = a < nf, free_b = b < nf;
-    if (!free_a && !free_b) {
+    if (a >= nf && b >= nf) {
       pinned_springs_.add(a, b, 0.0, k, r);
       continue;
     }
     springs_.add(a, b, h2 * k * r, k, r);
-    if (free_a != free_b) {
-      boundary_free_.push_back(free_a ? a : b);
-      boundary_pinned_.push_back(free_a ? b : a);
-      boundary_weight_.push_back(h2 * k);
-    }
   }
   springs_.sortByNode();
   prepared_revision_ = in.revision;
@@ -112,29 +77,18 @@ void LocalGlobalSolver::beginStep(const SolverInput& in, const SolverSettings& s
   problem_ = ImplicitStepProblem::build(model, in.pins, state);
   h_ = problem_.h;
   gravity_ = model.gravity;
-  const double h2 = h_ * h_;
   const int n = model.particleCount();
   const Points& y = problem_.inertial;
 
+  const Points constant = globalStepConstant(model, in.pins, dofs_, y);
   inertial_.assign(static_cast<std::size_t>(kNodeStride) * n, 0.0);
   rhs_constant_.assign(inertial_.size(), 0.0);
   for (int k = 0; k < n; ++k) {
     const int p = node_particle_[k];
-    const double m = node_mass_[k];
     for (int c = 0; c < 3; ++c) {
       inertial_[kNodeStride * k + c] = y(c, p);
-      rhs_constant_[kNodeStride * k + c] = m * (y(c, p) + h2 * model.gravity[c]);
+      rhs_constant_[kNodeStride * k + c] = constant(c, p);
     }
-  }
-  for (const Pin& pin : in.pins.pins()) {
-    if (pin.isHard()) continue;
-    double* r = &rhs_constant_[kNodeStride * particle_node_[pin.vertex]];
-    for (int c = 0; c < 3; ++c) r[c] += h2 * pin.stiffness * pin.target[c];
-  }
-  for (std::size_t s = 0; s < boundary_free_.size(); ++s) {
-    double* r = &rhs_constant_[kNodeStride * boundary_free_[s]];
-    const double* yp = &inertial_[kNodeStride * boundary_pinned_[s]];
-    for (int c = 0; c < 3; ++c) r[c] += boundary_weight_[s] * yp[c];
   }
   constant_energy_ = springEnergy3(pinned_springs_, inertial_.data());
 }

@@ -13,6 +13,10 @@ void ScalarSystem::factor(const Eigen::SparseMatrix<double>& a, LinearSolver bac
   order_.resize(n);
   std::iota(order_.begin(), order_.end(), 0);
   lower_ = LowerFactor{};
+  columns_.resize(n, 3);
+  solution_.resize(n, 3);
+  factor_nonzeros_ = 0;
+  if (n == 0) return;  // everything pinned: nothing to solve
   bool ok = true;
   if (backend == LinearSolver::kEigen) {
     eigen_.compute(a);
@@ -27,8 +31,6 @@ void ScalarSystem::factor(const Eigen::SparseMatrix<double>& a, LinearSolver bac
     }
   }
   if (!ok) throw std::runtime_error("global step matrix is not positive definite");
-  columns_.resize(n, 3);
-  solution_.resize(n, 3);
 }
 
 void ScalarSystem::solveInPlace(double* x) {
@@ -48,6 +50,54 @@ void ScalarSystem::solveInPlace(double* x) {
   }
   for (int k = 0; k < n; ++k)
     for (int c = 0; c < 3; ++c) x[kNodeStride * k + c] = solution_(k, c);
+}
+
+Eigen::SparseMatrix<double> globalStepMatrix(const Model& model, const PinSet& pins,
+                                             const DofMap& dofs) {
+  const Springs& springs = model.springs;
+  const double h2 = model.time_step * model.time_step;
+  const int nf = dofs.freeCount();
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(nf + 4 * springs.size() + pins.size());
+  for (int f = 0; f < nf; ++f) entries.emplace_back(f, f, model.mass[dofs.free_particles[f]]);
+  for (const Pin& pin : pins.pins()) {
+    if (pin.isHard()) continue;
+    const int f = dofs.reduced_index[pin.vertex];
+    entries.emplace_back(f, f, h2 * pin.stiffness);
+  }
+  for (std::size_t s = 0; s < springs.size(); ++s) {
+    const int i = dofs.reduced_index[springs.first[s]], j = dofs.reduced_index[springs.second[s]];
+    const double k = h2 * springs.stiffness[s];
+    if (i >= 0) entries.emplace_back(i, i, k);
+    if (j >= 0) entries.emplace_back(j, j, k);
+    if (i >= 0 && j >= 0) {
+      entries.emplace_back(i, j, -k);
+      entries.emplace_back(j, i, -k);
+    }
+  }
+  Eigen::SparseMatrix<double> a(nf, nf);
+  a.setFromTriplets(entries.begin(), entries.end());
+  a.makeCompressed();
+  return a;
+}
+
+Points globalStepConstant(const Model& model, const PinSet& pins, const DofMap& dofs,
+                          const Points& y) {
+  const double h2 = model.time_step * model.time_step;
+  Points rhs = (y + h2 * model.gravity.replicate(1, y.cols())) * model.mass.asDiagonal();
+  for (const Pin& pin : pins.pins()) {
+    if (!pin.isHard()) rhs.col(pin.vertex) += h2 * pin.stiffness * pin.target;
+  }
+  const Springs& springs = model.springs;
+  for (std::size_t s = 0; s < springs.size(); ++s) {
+    const int i = springs.first[s], j = springs.second[s];
+    const bool free_i = dofs.isFree(i), free_j = dofs.isFree(j);
+    if (free_i == free_j) continue;
+    const double k = h2 * springs.stiffness[s];
+    if (free_i) rhs.col(i) += k * y.col(j);
+    else rhs.col(j) += k * y.col(i);
+  }
+  return rhs;
 }
 
 }  // namespace cloth_sim

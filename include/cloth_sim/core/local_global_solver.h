@@ -5,6 +5,7 @@
 #include <functional>
 #include <vector>
 
+#include "cloth_sim/core/dof_map.h"
 #include "cloth_sim/core/implicit_euler.h"
 #include "cloth_sim/core/local_step.h"
 #include "cloth_sim/core/scalar_system.h"
@@ -82,9 +83,7 @@ class LocalGlobalSolver : public Solver {
   std::vector<int> particle_node_;  ///< particle -> node
   std::vector<double> node_mass_;   ///< kg, per node
   SpringTable springs_;             ///< springs with at least one free end
-  /// Boundary terms of the rhs: h^2 k_s y_pinned on the free end of a free-to-pinned spring.
-  std::vector<int> boundary_free_, boundary_pinned_;
-  std::vector<double> boundary_weight_;
+  DofMap dofs_;
   SpringTable pinned_springs_;      ///< springs with two pinned ends: constant energy
   double h_ = 0.0;
   Vec3 gravity_ = Vec3::Zero();

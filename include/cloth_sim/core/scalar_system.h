@@ -7,6 +7,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "cloth_sim/core/cholmod_factor.h"
+#include "cloth_sim/core/dof_map.h"
 #include "cloth_sim/core/solver.h"
 
 namespace cloth_sim {
@@ -44,5 +45,17 @@ class ScalarSystem {
   Eigen::MatrixX3d columns_, solution_;  // library backends: x, y, z as three columns
   long factor_nonzeros_ = 0;
 };
+
+/// The global step's matrix M + h^2 L_scalar (+ h^2 k on soft-pinned particles) over the free
+/// particles of @p dofs, in free-index order. A spring to a hard-pinned particle keeps only its
+/// diagonal term; its coupling goes to the right-hand side (globalStepConstant).
+Eigen::SparseMatrix<double> globalStepMatrix(const Model& model, const PinSet& pins,
+                                             const DofMap& dofs);
+
+/// The part of the global step's right-hand side that is constant within a step, per particle
+/// (3 x N, N m): M y + h^2 (m g + k_pin t), plus h^2 k y_p on the free end of every spring whose
+/// other end p is hard-pinned. Rows of hard-pinned particles are meaningless.
+Points globalStepConstant(const Model& model, const PinSet& pins, const DofMap& dofs,
+                          const Points& inertial);
 
 }  // namespace cloth_sim

@@ -69,7 +69,8 @@ struct SolverInput {
 class Solver {
  public:
   virtual ~Solver() = default;
-  /// Name used to select it: "explicit_euler", "verlet", "newton", "local_global", "chebyshev".
+  /// Name used to select it: "explicit_euler", "verlet", "newton", "local_global", "chebyshev",
+  /// "local_global_3n".
   virtual const char* name() const = 0;
   /// Advances @p state by one step. May leave non-finite values on blow-up: the caller checks.
   virtual SolveResult step(const SolverInput& input, const SolverSettings& settings,
