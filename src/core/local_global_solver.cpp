@@ -129,12 +129,12 @@ void LocalGlobalSolver::finishStep(const NodeBuffer& x, State& state) const {
   state = problem_.finish(positions, state.time);
 }
 
-void LocalGlobalSolver::observe(int k, const NodeBuffer& x) const {
-  if (!observer_) return;
+bool LocalGlobalSolver::observe(int k, const NodeBuffer& x) const {
+  if (!observer_) return true;
   observed_.resize(3, static_cast<Eigen::Index>(node_particle_.size()));
   for (std::size_t n = 0; n < node_particle_.size(); ++n)
     for (int c = 0; c < 3; ++c) observed_(c, node_particle_[n]) = x[kNodeStride * n + c];
-  observer_(k, observed_);
+  return observer_(k, observed_);
 }
 
 SolveResult LocalGlobalSolver::step(const SolverInput& in, const SolverSettings& settings,
@@ -148,7 +148,7 @@ SolveResult LocalGlobalSolver::step(const SolverInput& in, const SolverSettings&
     result.iterations = k + 1;
     result.convergence = relativeChange(x_next, x, inertial_);
     x.swap(x_next);
-    observe(k + 1, x);
+    if (!observe(k + 1, x)) break;
     if (settings.tolerance > 0.0 && result.convergence < settings.tolerance) {
       result.converged = true;
       break;
@@ -159,21 +159,21 @@ SolveResult LocalGlobalSolver::step(const SolverInput& in, const SolverSettings&
   return result;
 }
 
-double ChebyshevSolver::calibrateRho(const SolverSettings& settings) {
-  // Plain local/global contracts the error by about rho per iteration once the fast modes are
-  // gone; measure it as the geometric mean of the last update-norm ratios.
-  constexpr int kIterations = 30, kAveraged = 5;
-  NodeBuffer x = inertial(), x_next(x.size());
-  std::vector<double> updates;
-  for (int k = 0; k < std::max(kIterations, settings.max_iterations); ++k) {
-    iterate(x, x_next);
-    updates.push_back((view(x_next) - view(x)).norm());
-    x.swap(x_next);
+double localGlobalRhoBound(const Model& model) {
+  // Linearised, one local/global iteration maps an error e to (M + h^2 L)^-1 B e with
+  // 0 <= B <= h^2 L (x) I3 for springs at or above rest length (B keeps the transverse part of
+  // each spring's stiffness, scaled by r/l). Its spectral radius is therefore at most
+  // mu / (1 + mu), mu = h^2 lambda_max(M^-1 L) <= h^2 max_i 2 d_i / m_i (Gershgorin; d_i the
+  // stiffness summed over particle i's springs). On a grid the bound is tight.
+  std::vector<double> degree(model.particleCount(), 0.0);
+  for (std::size_t s = 0; s < model.springs.size(); ++s) {
+    degree[model.springs.first[s]] += model.springs.stiffness[s];
+    degree[model.springs.second[s]] += model.springs.stiffness[s];
   }
-  const std::size_t last = updates.size() - 1;
-  if (updates[last - kAveraged] <= 0.0 || updates[last] <= 0.0) return 0.0;
-  const double rho = std::pow(updates[last] / updates[last - kAveraged], 1.0 / kAveraged);
-  return std::clamp(rho, 0.0, 0.9999);
+  double ratio = 0.0;
+  for (int i = 0; i < model.particleCount(); ++i) ratio = std::max(ratio, 2.0 * degree[i] / model.mass[i]);
+  const double mu = model.time_step * model.time_step * ratio;
+  return mu / (1.0 + mu);
 }
 
 SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& settings,
@@ -181,10 +181,10 @@ SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& s
   beginStep(in, settings, state);
   if (settings.chebyshev_rho > 0.0) {
     rho_ = settings.chebyshev_rho;
-  } else if (!calibrated_ || calibrated_revision_ != in.revision) {
-    rho_ = calibrateRho(settings);
-    calibrated_ = true;
-    calibrated_revision_ = in.revision;
+  } else if (!rho_set_ || rho_revision_ != in.revision) {
+    rho_ = localGlobalRhoBound(in.model);
+    rho_set_ = true;
+    rho_revision_ = in.revision;
   }
   const double gamma = settings.chebyshev_gamma;
   const int delay = settings.chebyshev_delay;
@@ -206,7 +206,10 @@ SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& s
       x = x_hat_prev;
       since_restart = 0;
       accelerated = false;
-      if (solves >= settings.max_iterations) break;
+      if (solves >= settings.max_iterations) {
+        observe(solves, x);  // the step ends on this plain iterate
+        break;
+      }
       g = iterate(x, x_hat);
       ++solves;
     }
@@ -230,7 +233,16 @@ SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& s
     g_prev = g;
     x.swap(x_next);
     if (observing()) {  // what the step would return if it stopped here (see the end)
-      observe(solves, accelerated && objectiveAt(x) > objectiveAt(x_hat_prev) ? x_hat_prev : x);
+      if (accelerated && objectiveAt(x) > objectiveAt(x_hat_prev)) {
+        if (!observe(solves, x_hat_prev)) {
+          x = x_hat_prev;
+          accelerated = false;
+          break;
+        }
+      } else if (!observe(solves, x)) {
+        accelerated = false;
+        break;
+      }
     }
     if (settings.tolerance > 0.0 && result.convergence < settings.tolerance) {
       result.converged = true;

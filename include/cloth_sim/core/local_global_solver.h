@@ -38,9 +38,9 @@ class LocalGlobalSolver : public Solver {
   void setObjectiveTrace(std::vector<double>* trace) { trace_ = trace; }
 
   /// Diagnostic hook (benchmark): called after iteration k (1, 2, ...) with the iterate x_k
-  /// (m, all particles). It is the iterate the step would return if it stopped there. Costs a
-  /// conversion per iteration. An empty function disables.
-  using IterateObserver = std::function<void(int, const Points&)>;
+  /// (m, all particles), the one the step would return if it stopped there; returning false
+  /// stops the step there. Costs a conversion per iteration. An empty function disables.
+  using IterateObserver = std::function<bool(int, const Points&)>;
   void setIterateObserver(IterateObserver observer) { observer_ = std::move(observer); }
 
   /// The global step's factored system (valid after the first step).
@@ -60,7 +60,8 @@ class LocalGlobalSolver : public Solver {
   const NodeBuffer& inertial() const { return inertial_; }
   /// Ends the step: positions @p x, velocities (x - x_n) / h, time + h.
   void finishStep(const NodeBuffer& x, State& state) const;
-  void observe(int k, const NodeBuffer& x) const;
+  /// Calls the observer; false if it asked to stop.
+  bool observe(int k, const NodeBuffer& x) const;
   bool observing() const { return static_cast<bool>(observer_); }
 
   void recordTrace(double g) {
@@ -97,14 +98,19 @@ class LocalGlobalSolver : public Solver {
   std::vector<double>* trace_ = nullptr;
 };
 
+/// An upper bound on the spectral radius of local/global near a solution (springs at or above
+/// their rest length): mu / (1 + mu) with mu = h^2 max_i 2 d_i / m_i, d_i the summed stiffness
+/// of particle i's springs (N/m), m_i its mass (kg). E.g. 0.9998 for the 32 x 32 hanging cloth.
+double localGlobalRhoBound(const Model& model);
+
 /// Local/global with Chebyshev semi-iterative acceleration (Wang 2015, "A Chebyshev
 /// Semi-Iterative Approach for Accelerating Projective and Position-based Dynamics"):
 ///   x_{k+1} = omega_{k+1} (gamma (xhat_{k+1} - x_k) + x_k - x_{k-1}) + x_{k-1},
 ///   omega = 1 for the first S iterations, 2 / (2 - rho^2) at S, then 4 / (4 - rho^2 omega).
 /// Safeguard: when an accelerated iterate raises g, it is replaced by the plain local/global
 /// iterate (which never raises g) and the acceleration restarts; the returned iterate is never
-/// worse than the last plain local/global one. With rho = 0 in the settings, rho is measured
-/// after each refactorization from the contraction rate of plain local/global.
+/// worse than the last plain local/global one. With rho = 0 in the settings, rho is the bound
+/// localGlobalRhoBound, recomputed when the revision changes (a stiffness, mass or h).
 class ChebyshevSolver final : public LocalGlobalSolver {
  public:
   const char* name() const override { return "chebyshev"; }
@@ -114,11 +120,9 @@ class ChebyshevSolver final : public LocalGlobalSolver {
   double rho() const { return rho_; }
 
  private:
-  double calibrateRho(const SolverSettings& settings);
-
   double rho_ = 0.0;
-  std::uint64_t calibrated_revision_ = 0;
-  bool calibrated_ = false;
+  std::uint64_t rho_revision_ = 0;
+  bool rho_set_ = false;
 };
 
 }  // namespace cloth_sim
