@@ -14,3 +14,8 @@ if(CATKIN_ENABLE_TESTING)
     CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     CLOTH_SIM_RUN_BINARY="$<TARGET_FILE:cloth_sim_run>")
 endif()
+
+add_executable(cloth_sim_bench
+  tools/bench/bench_main.cpp tools/bench/cases.cpp tools/bench/reference.cpp tools/bench/speed.cpp)
+target_link_libraries(cloth_sim_bench cloth_sim_tools CLI11::CLI11)
+target_compile_definitions(cloth_sim_bench PRIVATE CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
