@@ -7,7 +7,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "floor.h"
 #include "speed.h"
+#include "stability.h"
 
 int main(int argc, char** argv) {
   using namespace cloth_sim::bench;
@@ -42,6 +44,37 @@ int main(int argc, char** argv) {
   bool no_paper = false;
   speed_cmd->add_flag("--no-paper", no_paper, "skip the paper's 81 x 81 cloth");
 
+  StabilityOptions stability;
+  stability.out_dir = source_dir + "/bench/results";
+  CLI::App* stab_cmd = app.add_subcommand("stability", "stability sweep over stiffness, time step, hard cases");
+  stab_cmd->add_option("--out", stability.out_dir, "output directory")->capture_default_str();
+  stab_cmd->add_option("--grid", stability.grid, "particles per side")->capture_default_str()
+      ->check(CLI::Range(3, 200));
+  stab_cmd->add_option("--solvers", stability.solvers, "solvers")->delimiter(',')
+      ->capture_default_str()->check(CLI::IsMember(cloth_sim::solverNames()));
+  stab_cmd->add_option("--stiffness", stability.stiffness, "structural stiffness values, N/m")
+      ->delimiter(',')->check(CLI::PositiveNumber);
+  stab_cmd->add_option("--dt", stability.time_steps, "time steps, s")->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  stab_cmd->add_option("--iterations", stability.iterations, "iterations per step")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+  stab_cmd->add_option("--duration", stability.duration, "simulated s per cell")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  stab_cmd->add_option("--damping", stability.damping, "damping, 1/s")->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  std::vector<std::string> scenario_names;
+  stab_cmd->add_option("--scenarios", scenario_names, "release, teleport, sphere")->delimiter(',')
+      ->check(CLI::IsMember({"release", "teleport", "sphere"}));
+
+  FloorOptions floor_options;
+  floor_options.out_dir = source_dir + "/bench/results";
+  CLI::App* floor_cmd = app.add_subcommand("floor", "bandwidth floor and per-iteration cost, paper cloth");
+  floor_cmd->add_option("--out", floor_options.out_dir, "output directory")->capture_default_str();
+  floor_cmd->add_option("--steps", floor_options.steps, "steps per timed run")
+      ->capture_default_str()->check(CLI::Range(2, 100000));
+  floor_cmd->add_option("--rounds", floor_options.rounds, "interleaved rounds")
+      ->capture_default_str()->check(CLI::Range(1, 1000));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -49,9 +82,22 @@ int main(int argc, char** argv) {
   }
   try {
     speed.scenes_dir = source_dir + "/config/scenes";
+    floor_options.scenes_dir = speed.scenes_dir;
+    if (*floor_cmd) runFloor(floor_options);
     if (*speed_cmd) {
       speed.paper = !no_paper;
       runSpeed(speed);
+    }
+    if (*stab_cmd) {
+      if (!scenario_names.empty()) {
+        stability.scenarios.clear();
+        for (const std::string& n : scenario_names) {
+          for (Scenario s : {Scenario::kRelease, Scenario::kTeleport, Scenario::kSphere}) {
+            if (n == scenarioName(s)) stability.scenarios.push_back(s);
+          }
+        }
+      }
+      runStability(stability);
     }
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
