@@ -28,6 +28,8 @@ STYLE = {
     "local_global:eigen": ("tab:gray", "^"),
     "local_global_3n": ("tab:brown", "s"),
     "chebyshev": ("tab:green", "D"),
+    "local_global+warm": ("tab:olive", "o"),
+    "chebyshev+warm": ("tab:olive", "D"),
     "newton": ("tab:red", "*"),
     "explicit_euler": ("tab:purple", "x"),
     "verlet": ("tab:pink", "+"),

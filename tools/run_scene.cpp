@@ -18,7 +18,7 @@ struct Options {
   std::optional<int> iterations;
   std::optional<double> dt, tolerance;
   double duration = 5.0;
-  bool quiet = false;
+  bool quiet = false, warm_start = false;
 };
 
 /// A CLI11 validator for a strictly positive, finite number.
@@ -58,6 +58,8 @@ int main(int argc, char** argv) {
   auto* csv = app.add_option("--csv", o.csv, "per-step CSV to this file ('-' = stdout)");
   app.add_option("--json", o.json, "per-step JSON to this file ('-' = stdout)")->excludes(csv);
   app.add_option("--positions", o.positions, "final positions (CSV: particle,x,y,z in m) to this file");
+  app.add_flag("--warm-start", o.warm_start,
+               "local_global/chebyshev: start from y + the previous step's correction");
   app.add_flag("--quiet", o.quiet, "no per-second summary on stdout");
   try {
     app.parse(argc, argv);
@@ -74,6 +76,7 @@ int main(int argc, char** argv) {
       scene.options.settings.linear_solver = linearSolverFromName(o.linear_solver);
     }
     if (o.dt) scene.time_step = *o.dt;
+    if (o.warm_start) scene.options.settings.warm_start = true;
     Simulation sim = makeSimulation(scene);
     const double h = sim.model().time_step;
     const int steps = std::max(1, static_cast<int>(o.duration / h + 0.5));

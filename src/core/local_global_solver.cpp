@@ -34,6 +34,7 @@ void LocalGlobalSolver::factorize(const SolverInput& in, LinearSolver backend) {
   const int nf = dofs.freeCount();
 
   system_.factor(globalStepMatrix(model, in.pins, dofs), backend);
+  correction_.clear();  // node order and system changed
   if (nf > 0) ++factorizations_;
 
   // Node order: free particles in the system's order, then the hard-pinned ones.
@@ -122,7 +123,17 @@ double LocalGlobalSolver::objectiveAt(const NodeBuffer& x) const {
          h2 * (springEnergy3(springs_, x.data()) + constant_energy_ + pinEnergy(x));
 }
 
-void LocalGlobalSolver::finishStep(const NodeBuffer& x, State& state) const {
+NodeBuffer LocalGlobalSolver::initialGuess(const SolverSettings& settings) const {
+  if (!settings.warm_start || correction_.size() != inertial_.size()) return inertial_;
+  NodeBuffer guess(inertial_.size());
+  view(guess) = view(inertial_) + view(correction_);
+  // Only when it is the better start: after a jolt the last correction can point the wrong way.
+  return objectiveAt(guess) < objectiveAt(inertial_) ? guess : inertial_;
+}
+
+void LocalGlobalSolver::finishStep(const NodeBuffer& x, State& state) {
+  correction_.resize(x.size());
+  view(correction_) = view(x) - view(inertial_);
   Points positions(3, static_cast<Eigen::Index>(node_particle_.size()));
   for (std::size_t k = 0; k < node_particle_.size(); ++k)
     for (int c = 0; c < 3; ++c) positions(c, node_particle_[k]) = x[kNodeStride * k + c];
@@ -141,12 +152,13 @@ SolveResult LocalGlobalSolver::step(const SolverInput& in, const SolverSettings&
                                     State& state) {
   beginStep(in, settings, state);
   clearTrace();
-  NodeBuffer x = inertial_, x_next(x.size());
+  const NodeBuffer start = initialGuess(settings);
+  NodeBuffer x = start, x_next(x.size());
   SolveResult result;
   for (int k = 0; k < settings.max_iterations; ++k) {
     recordTrace(iterate(x, x_next));
     result.iterations = k + 1;
-    result.convergence = relativeChange(x_next, x, inertial_);
+    result.convergence = relativeChange(x_next, x, start);
     x.swap(x_next);
     if (!observe(k + 1, x)) break;
     if (settings.tolerance > 0.0 && result.convergence < settings.tolerance) {
@@ -188,7 +200,7 @@ SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& s
   }
   const double gamma = settings.chebyshev_gamma;
   const int delay = settings.chebyshev_delay;
-  const NodeBuffer& start = inertial();
+  const NodeBuffer start = initialGuess(settings);
 
   NodeBuffer x = start, x_prev = start, x_hat(x.size()), x_hat_prev(x.size()), x_next(x.size());
   double g_prev = std::numeric_limits<double>::infinity();

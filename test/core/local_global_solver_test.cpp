@@ -161,6 +161,40 @@ TEST(LocalGlobal, ObserverSeesEveryIterateAndTheLastIsTheResult) {
   }
 }
 
+TEST(LocalGlobal, WarmStartNeverStartsWorseAndConvergesToTheSameSolution) {
+  SwingingCloth c;
+  for (bool chebyshev : {false, true}) {
+    std::unique_ptr<LocalGlobalSolver> cold, warm;
+    if (chebyshev) {
+      cold = std::make_unique<ChebyshevSolver>();
+      warm = std::make_unique<ChebyshevSolver>();
+    } else {
+      cold = std::make_unique<LocalGlobalSolver>();
+      warm = std::make_unique<LocalGlobalSolver>();
+    }
+    SolverSettings settings = test::convergedSettings(5, 0.0);
+    State b = c.state;
+    std::vector<double> cold_trace, warm_trace;
+    cold->setObjectiveTrace(&cold_trace);
+    warm->setObjectiveTrace(&warm_trace);
+    for (int k = 0; k < 20; ++k) {
+      settings.warm_start = false;
+      State from = b;  // both step from the same state: the warm solver's
+      cold->step(c.input(), settings, from);
+      settings.warm_start = true;
+      warm->step(c.input(), settings, b);
+      EXPECT_LE(warm_trace.front(), cold_trace.front()) << "step " << k;  // g(x_0) <= g(y)
+    }
+    // Run to convergence: the start changes the path, not the solution.
+    State from = b;
+    settings = test::convergedSettings(100000, 1e-14);
+    cold->step(c.input(), settings, from);
+    settings.warm_start = true;
+    warm->step(c.input(), settings, b);
+    EXPECT_LT((b.positions - from.positions).norm(), 1e-9 * b.positions.norm()) << warm->name();
+  }
+}
+
 TEST(Chebyshev, ConvergesToNewtonsSolution) {
   SwingingCloth c;
   ChebyshevSolver cheb;

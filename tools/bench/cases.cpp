@@ -35,10 +35,11 @@ BenchCase makePaperCase(const std::string& scenes_dir) {
 }
 
 SceneConfig withSolver(SceneConfig config, const std::string& solver, int iterations,
-                       LinearSolver linear) {
+                       LinearSolver linear, bool warm_start) {
   config.options.solver = solver;
   config.options.settings.max_iterations = iterations;
   config.options.settings.linear_solver = linear;
+  config.options.settings.warm_start = warm_start;
   return config;
 }
 

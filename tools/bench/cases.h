@@ -26,8 +26,8 @@ BenchCase makeCase(const std::string& scenes_dir, const std::string& scene, int 
 /// triangulation diagonals as shear springs, distance-2 bending springs and h = 1/30 s.
 BenchCase makePaperCase(const std::string& scenes_dir);
 
-/// The same configuration with another solver, iteration count and linear solver.
+/// The same configuration with another solver, iteration count, linear solver and warm start.
 SceneConfig withSolver(SceneConfig config, const std::string& solver, int iterations,
-                       LinearSolver linear);
+                       LinearSolver linear, bool warm_start = false);
 
 }  // namespace cloth_sim::bench

@@ -20,15 +20,22 @@ namespace {
 struct Config {
   std::string label, solver;
   LinearSolver linear = LinearSolver::kFused;
+  bool warm = false;      ///< SolverSettings::warm_start
   bool iterative = true;  ///< false: explicit, one row at "iterations" 1
 };
 
+/// "solver[:linear][+warm]"
 Config configOf(const std::string& label) {
   Config c{label, label};
-  const auto colon = label.find(':');
+  const auto plus = label.find('+');
+  if (plus != std::string::npos) {
+    c.warm = label.substr(plus + 1) == "warm";
+    c.solver = label.substr(0, plus);
+  }
+  const auto colon = c.solver.find(':');
   if (colon != std::string::npos) {
-    c.solver = label.substr(0, colon);
-    c.linear = linearSolverFromName(label.substr(colon + 1));
+    c.linear = linearSolverFromName(c.solver.substr(colon + 1));
+    c.solver = c.solver.substr(0, colon);
   }
   c.iterative = c.solver != "explicit_euler" && c.solver != "verlet";
   return c;
@@ -67,22 +74,26 @@ TimedRun timeRun(const SceneConfig& config, const SpeedOptions& o) {
 
 struct Sample {
   int step = 0;
+  State previous;  ///< the state one step before: a warm-started solver steps from it first
   State state;
   Reference ref;
 };
 
 /// Error of one step from each sample.
 void measureErrors(const Config& c, int iterations, const Model& model, const PinSet& pins,
-                   const State& initial, const std::vector<Sample>& samples,
+                   const std::vector<Sample>& samples,
                    std::vector<double>& e_g, std::vector<double>& e_x) {
   std::unique_ptr<Solver> solver = makeSolver(c.solver);
   SolverSettings settings;
   settings.max_iterations = iterations;
   settings.linear_solver = c.linear;
+  settings.warm_start = c.warm;
   const SolverInput input{model, pins, 1};
-  State warm = initial;
-  solver->step(input, settings, warm);  // factor and (chebyshev) measure rho as a run would
   for (const Sample& s : samples) {
+    // The step before the sample first, as in a run: it factors and, with warm start, leaves
+    // the previous correction. Then the measured step, from the common state.
+    State before = s.previous;
+    solver->step(input, settings, before);
     State next = s.state;
     solver->step(input, settings, next);
     const ImplicitStepProblem problem = ImplicitStepProblem::build(model, pins, s.state);
@@ -119,18 +130,21 @@ std::map<int, std::pair<std::vector<double>, std::vector<double>>> newtonErrors(
 
 /// Per-iteration errors of local/global or chebyshev, up to trace_iterations or both < 1e-4.
 void traceErrors(const std::string& case_name, const Config& c, const Model& model,
-                 const PinSet& pins, const State& initial, const std::vector<Sample>& samples,
+                 const PinSet& pins, const std::vector<Sample>& samples,
                  int cap, std::ofstream& out) {
   auto solver = std::unique_ptr<LocalGlobalSolver>(
       c.solver == "chebyshev" ? new ChebyshevSolver : new LocalGlobalSolver);
   SolverSettings settings;
   settings.linear_solver = c.linear;
+  settings.warm_start = c.warm;
   const SolverInput input{model, pins, 1};
-  State warm = initial;
-  solver->step(input, settings, warm);
-  settings.max_iterations = cap;
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const Sample& s = samples[i];
+    solver->setIterateObserver({});
+    settings.max_iterations = 10;
+    State before = s.previous;
+    solver->step(input, settings, before);
+    settings.max_iterations = cap;
     const ImplicitStepProblem problem = ImplicitStepProblem::build(model, pins, s.state);
     int next_logged = 1;
     solver->setIterateObserver([&](int k, const Points& x) {
@@ -166,7 +180,7 @@ void writeRow(std::ofstream& out, const BenchCase& bc, const Model& model, const
 
 std::vector<std::string> solverLabels() {
   return {"local_global", "local_global:cholmod", "local_global:eigen", "local_global_3n",
-          "chebyshev", "newton", "explicit_euler", "verlet"};
+          "chebyshev", "local_global+warm", "chebyshev+warm", "newton", "explicit_euler", "verlet"};
 }
 
 void runSpeed(const SpeedOptions& o) {
@@ -196,10 +210,11 @@ void runSpeed(const SpeedOptions& o) {
     const int steps = std::max(1, static_cast<int>(o.duration / model.time_step + 0.5));
     std::vector<Sample> samples;
     for (int k = 1; k <= steps; ++k) {
+      const State previous = sim.state();
       sim.step();
       if (static_cast<int>(samples.size()) < o.samples &&
           k == (static_cast<int>(samples.size()) + 1) * steps / o.samples) {
-        samples.push_back({k, sim.state(), {}});
+        samples.push_back({k, previous, sim.state(), {}});
       }
     }
     bool all_converged = true;
@@ -233,20 +248,20 @@ void runSpeed(const SpeedOptions& o) {
                                                : decltype(newtonErrors(counts, model, pins, samples)){};
       for (int iterations : counts) {
         const double t0 = now();
-        const TimedRun run = timeRun(withSolver(bc.config, c.solver, iterations, c.linear), o);
+        const TimedRun run =
+            timeRun(withSolver(bc.config, c.solver, iterations, c.linear, c.warm), o);
         const bool is_newton = c.solver == "newton";
         std::vector<double> e_g = is_newton ? newton.at(iterations).first : std::vector<double>();
         std::vector<double> e_x = is_newton ? newton.at(iterations).second : std::vector<double>();
-        if (!is_newton) measureErrors(c, iterations, model, pins, initial, samples, e_g, e_x);
+        if (!is_newton) measureErrors(c, iterations, model, pins, samples, e_g, e_x);
         writeRow(speed, bc, model, c, iterations, run, e_g, e_x, all_converged);
         std::fprintf(stderr, "[bench] %-10s %-22s %3d it: %8.3f ms/step, err_g %.2e err_x %.2e "
                      "(%.1f s)\n", bc.name.c_str(), label.c_str(), iterations, median(run.wall_ms),
                      median(e_g), median(e_x), now() - t0);
       }
-      if (c.solver == "local_global" && c.linear == LinearSolver::kFused) {
-        traceErrors(bc.name, c, model, pins, initial, samples, o.trace_iterations, traces);
-      } else if (c.solver == "chebyshev") {
-        traceErrors(bc.name, c, model, pins, initial, samples, o.trace_iterations, traces);
+      if ((c.solver == "local_global" || c.solver == "chebyshev") &&
+          c.linear == LinearSolver::kFused) {
+        traceErrors(bc.name, c, model, pins, samples, o.trace_iterations, traces);
       }
       traces.flush();
     }

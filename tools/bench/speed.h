@@ -23,7 +23,8 @@ struct SpeedOptions {
 };
 
 /// The solver configurations the benchmark knows: "local_global" (fused kernels),
-/// "local_global:cholmod", "local_global:eigen", "local_global_3n", "chebyshev", "newton",
+/// "local_global:cholmod", "local_global:eigen", "local_global_3n", "chebyshev",
+/// "local_global+warm", "chebyshev+warm" (SolverSettings::warm_start), "newton",
 /// "explicit_euler", "verlet".
 std::vector<std::string> solverLabels();
 

@@ -58,8 +58,11 @@ class LocalGlobalSolver : public Solver {
   double objectiveAt(const NodeBuffer& x) const;
   /// The initial guess y of this step, in node order.
   const NodeBuffer& inertial() const { return inertial_; }
-  /// Ends the step: positions @p x, velocities (x - x_n) / h, time + h.
-  void finishStep(const NodeBuffer& x, State& state) const;
+  /// The first iterate: y, or with SolverSettings::warm_start y plus the previous step's
+  /// correction when that has the lower g.
+  NodeBuffer initialGuess(const SolverSettings& settings) const;
+  /// Ends the step: positions @p x, velocities (x - x_n) / h, time + h; keeps x - y.
+  void finishStep(const NodeBuffer& x, State& state);
   /// Calls the observer; false if it asked to stop.
   bool observe(int k, const NodeBuffer& x) const;
   bool observing() const { return static_cast<bool>(observer_); }
@@ -92,6 +95,7 @@ class LocalGlobalSolver : public Solver {
   ImplicitStepProblem problem_;
   NodeBuffer inertial_;             ///< y
   NodeBuffer rhs_constant_;         ///< M y + h^2 (m g + k_pin t + k x_boundary)
+  NodeBuffer correction_;           ///< x_{n} - y of the previous step (warm start)
   double constant_energy_ = 0.0;    ///< springs between pinned nodes, J
   mutable Points observed_;
   IterateObserver observer_;
