@@ -1,17 +1,14 @@
 #include "cloth_sim/core/cholmod_factor.h"
 
+#include <algorithm>
 #include <cstring>
+#include <utility>
 #include <stdexcept>
 #include <string>
 
 #include <cholmod.h>
 
 namespace cloth_sim {
-
-long LowerFactor::solveBytes() const {
-  const long per_entry = sizeof(double) + sizeof(int);
-  return 2 * (per_entry * offDiagonalCount() + (sizeof(double) + sizeof(int)) * size);
-}
 
 struct CholmodFactor::Impl {
   cholmod_common common;
@@ -132,31 +129,24 @@ LowerFactor CholmodFactor::exportLower() {
   out.permutation.assign(perm, perm + n);
   out.inv_diagonal.resize(n);
   out.col_start.assign(n + 1, 0);
-  std::vector<int> row_count(n + 1, 0);
   for (int j = 0; j < n; ++j) {
     if (p[j + 1] <= p[j] || rows[p[j]] != j) {
-      throw std::logic_error("CHOLMOD factor column " + std::to_string(j) + " does not start at its diagonal");
+      throw std::logic_error("CHOLMOD factor column " + std::to_string(j) +
+                             " does not start at its diagonal");
     }
     out.inv_diagonal[j] = 1.0 / values[p[j]];
     out.col_start[j + 1] = out.col_start[j] + (p[j + 1] - p[j] - 1);
-    for (int k = p[j] + 1; k < p[j + 1]; ++k) ++row_count[rows[k] + 1];
   }
-  const int off = out.col_start[n];
-  out.col_row.resize(off);
-  out.col_value.resize(off);
-  out.row_start.assign(n + 1, 0);
-  for (int i = 0; i < n; ++i) out.row_start[i + 1] = out.row_start[i] + row_count[i + 1];
-  out.row_col.resize(off);
-  out.row_value.resize(off);
-  std::vector<int> fill(out.row_start.begin(), out.row_start.end() - 1);
-  for (int j = 0; j < n; ++j) {  // columns in increasing order: each CSR row comes out sorted
-    int c = out.col_start[j];
-    for (int k = p[j] + 1; k < p[j + 1]; ++k, ++c) {
-      out.col_row[c] = rows[k];
-      out.col_value[c] = values[k];
-      const int r = fill[rows[k]]++;
-      out.row_col[r] = j;
-      out.row_value[r] = values[k];
+  out.col_row.resize(out.col_start[n]);
+  out.col_value.resize(out.col_start[n]);
+  std::vector<std::pair<int, double>> column;
+  for (int j = 0; j < n; ++j) {
+    column.clear();
+    for (int k = p[j] + 1; k < p[j + 1]; ++k) column.emplace_back(rows[k], values[k]);
+    std::sort(column.begin(), column.end());  // CHOLMOD does not promise sorted rows
+    for (std::size_t k = 0; k < column.size(); ++k) {
+      out.col_row[out.col_start[j] + k] = column[k].first;
+      out.col_value[out.col_start[j] + k] = column[k].second;
     }
   }
   return out;  // the CHOLMOD copy stays valid for solveInPlace

@@ -3,7 +3,6 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "cloth_sim/core/triangular_kernels.h"
 
 namespace cloth_sim {
 
@@ -12,7 +11,7 @@ void ScalarSystem::factor(const Eigen::SparseMatrix<double>& a, LinearSolver bac
   const int n = static_cast<int>(a.rows());
   order_.resize(n);
   std::iota(order_.begin(), order_.end(), 0);
-  lower_ = LowerFactor{};
+  supernodal_ = SupernodalFactor{};
   columns_.resize(n, 3);
   solution_.resize(n, 3);
   factor_nonzeros_ = 0;
@@ -26,8 +25,8 @@ void ScalarSystem::factor(const Eigen::SparseMatrix<double>& a, LinearSolver bac
     ok = cholmod_.compute(a);
     factor_nonzeros_ = static_cast<long>(cholmod_.factorNonZeros());
     if (ok && backend == LinearSolver::kFused) {
-      lower_ = cholmod_.exportLower();
-      order_ = lower_.permutation;
+      supernodal_ = makeSupernodal(cholmod_.exportLower());
+      order_ = supernodal_.permutation;
     }
   }
   if (!ok) throw std::runtime_error("global step matrix is not positive definite");
@@ -37,7 +36,7 @@ void ScalarSystem::solveInPlace(double* x) {
   const int n = size();
   if (n == 0) return;
   if (backend_ == LinearSolver::kFused) {
-    solveFused3(lower_, x);
+    solveFused3(supernodal_, x);
     return;
   }
   for (int k = 0; k < n; ++k)

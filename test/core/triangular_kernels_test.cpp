@@ -1,3 +1,4 @@
+#include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 #include <gtest/gtest.h>
 
@@ -8,49 +9,87 @@
 namespace cloth_sim {
 namespace {
 
-TEST(TriangularKernels, FusedSolveMatchesALibrarySolveForAllThreeColumns) {
-  // Large enough for every code path: remainder loops, long columns near the root.
-  const Eigen::SparseMatrix<double> a = test::gridSystemMatrix(23, 17, 1.0 / 30.0);
+LowerFactor factorOf(const Eigen::SparseMatrix<double>& a) {
   CholmodFactor factor;
-  ASSERT_TRUE(factor.compute(a));
-  const LowerFactor f = factor.exportLower();
-  const Eigen::MatrixX3d b = Eigen::MatrixX3d::Random(a.rows(), 3);
-  const Eigen::MatrixX3d expected = Eigen::SimplicialLLT<Eigen::SparseMatrix<double>>(a).solve(b);
-
-  NodeBuffer x(kNodeStride * f.size, 0.0);  // in the factor's order, pad slots 0
-  for (int k = 0; k < f.size; ++k)
-    for (int c = 0; c < 3; ++c) x[kNodeStride * k + c] = b(f.permutation[k], c);
-  solveFused3(f, x.data());
-  double error = 0.0;
-  for (int k = 0; k < f.size; ++k) {
-    for (int c = 0; c < 3; ++c) error += std::pow(x[kNodeStride * k + c] - expected(f.permutation[k], c), 2);
-    EXPECT_EQ(x[kNodeStride * k + 3], 0.0);  // the pad slot stays 0
-  }
-  EXPECT_LT(std::sqrt(error), 1e-12 * expected.norm());
+  EXPECT_TRUE(factor.compute(a));
+  return factor.exportLower();
 }
 
-TEST(TriangularKernels, ForwardAndBackwardAreTheTwoTriangularSolves) {
-  const Eigen::SparseMatrix<double> a = test::gridSystemMatrix(6, 5, 1.0 / 60.0);
-  CholmodFactor factor;
-  ASSERT_TRUE(factor.compute(a));
-  const LowerFactor f = factor.exportLower();
+Eigen::MatrixXd denseLower(const LowerFactor& f) {
   Eigen::MatrixXd l = Eigen::MatrixXd::Zero(f.size, f.size);
   for (int j = 0; j < f.size; ++j) {
     l(j, j) = 1.0 / f.inv_diagonal[j];
     for (int k = f.col_start[j]; k < f.col_start[j + 1]; ++k) l(f.col_row[k], j) = f.col_value[k];
   }
-  const Eigen::MatrixX3d b = Eigen::MatrixX3d::Random(f.size, 3);
-  NodeBuffer x(kNodeStride * f.size, 0.0);
-  for (int k = 0; k < f.size; ++k)
+  return l;
+}
+
+NodeBuffer toNodes(const Eigen::MatrixX3d& b) {
+  NodeBuffer x(kNodeStride * b.rows(), 0.0);
+  for (int k = 0; k < b.rows(); ++k)
     for (int c = 0; c < 3; ++c) x[kNodeStride * k + c] = b(k, c);
+  return x;
+}
+
+double distance(const NodeBuffer& x, const Eigen::MatrixX3d& expected) {
+  double sum = 0.0;
+  for (int k = 0; k < expected.rows(); ++k) {
+    for (int c = 0; c < 3; ++c) sum += std::pow(x[kNodeStride * k + c] - expected(k, c), 2);
+    EXPECT_EQ(x[kNodeStride * k + 3], 0.0);  // the pad slot stays 0
+  }
+  return std::sqrt(sum);
+}
+
+TEST(TriangularKernels, SupernodesCoverEveryColumnAndKeepEveryEntry) {
+  const LowerFactor l = factorOf(test::gridSystemMatrix(23, 17, 1.0 / 30.0));
+  for (int width : {1, 3, kMaxSupernode}) {
+    const SupernodalFactor f = makeSupernodal(l, width);
+    ASSERT_EQ(f.first_column.front(), 0);
+    ASSERT_EQ(f.first_column.back(), l.size);
+    std::size_t stored = 0;
+    for (int s = 0; s < f.supernodeCount(); ++s) {
+      const int w = f.first_column[s + 1] - f.first_column[s];
+      ASSERT_GE(w, 1);
+      ASSERT_LE(w, width);
+      stored += w * (w - 1) / 2 + static_cast<std::size_t>(w) * (f.row_start[s + 1] - f.row_start[s]);
+    }
+    EXPECT_EQ(stored, static_cast<std::size_t>(l.offDiagonalCount())) << "width " << width;
+    if (width == kMaxSupernode) {
+      EXPECT_LT(f.supernodeCount(), 0.6 * l.size);  // columns do group
+    }
+  }
+}
+
+TEST(TriangularKernels, FusedSolveMatchesALibrarySolveForAllThreeColumns) {
+  // Large enough for every supernode width and the remainder loops.
+  const Eigen::SparseMatrix<double> a = test::gridSystemMatrix(23, 17, 1.0 / 30.0);
+  const LowerFactor l = factorOf(a);
+  const Eigen::MatrixX3d b = Eigen::MatrixX3d::Random(a.rows(), 3);
+  const Eigen::MatrixX3d solution = Eigen::SimplicialLLT<Eigen::SparseMatrix<double>>(a).solve(b);
+  Eigen::MatrixX3d permuted_b(a.rows(), 3), expected(a.rows(), 3);
+  for (int k = 0; k < l.size; ++k) {
+    permuted_b.row(k) = b.row(l.permutation[k]);
+    expected.row(k) = solution.row(l.permutation[k]);
+  }
+  for (int width : {1, 2, 5, kMaxSupernode}) {
+    NodeBuffer x = toNodes(permuted_b);
+    solveFused3(makeSupernodal(l, width), x.data());
+    EXPECT_LT(distance(x, expected), 1e-12 * expected.norm()) << "width " << width;
+  }
+}
+
+TEST(TriangularKernels, ForwardAndBackwardAreTheTwoTriangularSolves) {
+  const LowerFactor l = factorOf(test::gridSystemMatrix(9, 8, 1.0 / 60.0));
+  const SupernodalFactor f = makeSupernodal(l);
+  const Eigen::MatrixXd dense = denseLower(l);
+  const Eigen::MatrixX3d b = Eigen::MatrixX3d::Random(l.size, 3);
+  NodeBuffer x = toNodes(b);
   forwardSolve3(f, x.data());
-  const Eigen::MatrixX3d z = l.triangularView<Eigen::Lower>().solve(b);
-  for (int k = 0; k < f.size; ++k)
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(x[kNodeStride * k + c], z(k, c), 1e-12 * z.norm());
+  const Eigen::MatrixX3d z = dense.triangularView<Eigen::Lower>().solve(b);
+  EXPECT_LT(distance(x, z), 1e-12 * z.norm());
   backwardSolve3(f, x.data());
-  const Eigen::MatrixX3d y = l.transpose().triangularView<Eigen::Upper>().solve(z);
-  for (int k = 0; k < f.size; ++k)
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(x[kNodeStride * k + c], y(k, c), 1e-12 * y.norm());
+  const Eigen::MatrixX3d y = dense.transpose().triangularView<Eigen::Upper>().solve(z);
+  EXPECT_LT(distance(x, y), 1e-12 * y.norm());
 }
 
 }  // namespace

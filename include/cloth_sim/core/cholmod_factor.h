@@ -10,25 +10,19 @@
 
 namespace cloth_sim {
 
-/// A lower-triangular sparse factor L with L L^T = P A P^T, in both storage orders so that the
-/// forward solve (rows of L) and the backward solve (columns of L) both read it as a stream.
-/// The diagonal is stored apart, inverted, so the inner loops see only off-diagonal entries.
+/// A lower-triangular sparse factor L with L L^T = P A P^T: the strictly lower part in CSC with
+/// sorted rows, the diagonal apart and inverted.
 struct LowerFactor {
   int size = 0;                    ///< n
-  /// CSC of the strictly lower part: column j holds rows col_row[col_start[j] .. col_start[j+1]).
+  /// Column j holds rows col_row[col_start[j] .. col_start[j+1]), increasing.
   std::vector<int> col_start, col_row;
   std::vector<double> col_value;
-  /// CSR of the strictly lower part: row i holds columns row_col[row_start[i] .. row_start[i+1]).
-  std::vector<int> row_start, row_col;
-  std::vector<double> row_value;
   std::vector<double> inv_diagonal;  ///< 1 / L_jj
   /// Fill-reducing permutation: row k of P A P^T is row permutation[k] of A.
   std::vector<int> permutation;
 
-  /// Off-diagonal nonzeros (each stored twice, once per order).
+  /// Off-diagonal nonzeros.
   long offDiagonalCount() const { return static_cast<long>(col_row.size()); }
-  /// Bytes one solve (forward + backward) streams from the factor: values, indices, diagonal.
-  long solveBytes() const;
 };
 
 /// A sparse symmetric positive definite matrix A factored by CHOLMOD.
@@ -63,7 +57,7 @@ class CholmodFactor {
 
   /// Nonzeros of L (diagonal included), as CHOLMOD counts them.
   double factorNonZeros() const;
-  /// The factor as an explicit L (a copy; converts a simplicial factor to L L^T form).
+  /// The factor as an explicit L (a copy; converts the factor to simplicial L L^T form).
   LowerFactor exportLower();
 
  private:

@@ -9,6 +9,7 @@
 #include "cloth_sim/core/cholmod_factor.h"
 #include "cloth_sim/core/dof_map.h"
 #include "cloth_sim/core/solver.h"
+#include "cloth_sim/core/triangular_kernels.h"
 
 namespace cloth_sim {
 
@@ -32,7 +33,7 @@ class ScalarSystem {
   void solveInPlace(double* x);
 
   /// The explicit factor used by kFused (empty for the other backends).
-  const LowerFactor& lower() const { return lower_; }
+  const SupernodalFactor& supernodal() const { return supernodal_; }
   /// Nonzeros of the factor L, diagonal included.
   long factorNonZeros() const { return factor_nonzeros_; }
 
@@ -40,7 +41,7 @@ class ScalarSystem {
   LinearSolver backend_ = LinearSolver::kFused;
   std::vector<int> order_;
   CholmodFactor cholmod_;
-  LowerFactor lower_;
+  SupernodalFactor supernodal_;
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> eigen_;
   Eigen::MatrixX3d columns_, solution_;  // library backends: x, y, z as three columns
   long factor_nonzeros_ = 0;
