@@ -1,3 +1,5 @@
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "cloth_sim/core/local_step.h"
@@ -47,6 +49,26 @@ TEST(LocalStep, CollapsedSpringPushesAlongPlusX) {
   EXPECT_EQ(rhs[kNodeStride], -2.0);
   EXPECT_EQ(rhs[1], 0.0);
   EXPECT_DOUBLE_EQ(energy, 0.5 * 10.0 * 0.25);
+}
+
+TEST(LocalStep, CollapsedSpringAmongFourTakesTheSameFallback) {
+  // The vector path handles springs four at a time and must fall back for a collapsed one.
+  SpringTable table;
+  for (int s = 0; s < 9; ++s) table.add(s, s + 1, 1.0 + s, 10.0, 0.5);
+  NodeBuffer x(10 * kNodeStride, 0.0), rhs(10 * kNodeStride, 0.0);
+  for (int i = 0; i < 10; ++i) x[kNodeStride * i + 1] = (i == 6 ? 5 : i) * 0.5;  // nodes 5, 6 coincide
+  double expected_energy = 0.0;
+  NodeBuffer expected(rhs.size(), 0.0);
+  for (int s = 0; s < 9; ++s) {
+    const double d = x[kNodeStride * s + 1] - x[kNodeStride * (s + 1) + 1];
+    const int axis = d == 0.0 ? 0 : 1;
+    const double push = (1.0 + s) * (d == 0.0 ? 1.0 : (d > 0 ? 1.0 : -1.0));
+    expected[kNodeStride * s + axis] += push;
+    expected[kNodeStride * (s + 1) + axis] -= push;
+    expected_energy += 5.0 * std::pow(std::abs(d) - 0.5, 2);
+  }
+  EXPECT_DOUBLE_EQ(localStep3(table, x.data(), rhs.data()), expected_energy);
+  for (std::size_t k = 0; k < rhs.size(); ++k) EXPECT_DOUBLE_EQ(rhs[k], expected[k]) << k;
 }
 
 TEST(LocalStep, InertiaAndGravityMatchesItsDefinition) {
