@@ -7,22 +7,13 @@
 namespace cloth_sim {
 namespace {
 
-Eigen::MatrixXd denseLower(const LowerFactor& f) {
-  Eigen::MatrixXd l = Eigen::MatrixXd::Zero(f.size, f.size);
-  for (int j = 0; j < f.size; ++j) {
-    l(j, j) = 1.0 / f.inv_diagonal[j];
-    for (int k = f.col_start[j]; k < f.col_start[j + 1]; ++k) l(f.col_row[k], j) = f.col_value[k];
-  }
-  return l;
-}
-
 TEST(CholmodFactor, ExportedFactorReproducesThePermutedMatrix) {
   const Eigen::SparseMatrix<double> a = test::gridSystemMatrix(9, 7, 1.0 / 30.0);
   CholmodFactor factor;
   ASSERT_TRUE(factor.compute(a));
   const LowerFactor f = factor.exportLower();
   ASSERT_EQ(f.size, a.rows());
-  const Eigen::MatrixXd l = denseLower(f);
+  const Eigen::MatrixXd l = test::denseLower(f);
   const Eigen::MatrixXd dense = Eigen::MatrixXd(a);
   Eigen::MatrixXd permuted(f.size, f.size);
   for (int r = 0; r < f.size; ++r)

@@ -85,6 +85,15 @@ Eigen::SparseMatrix<double> gridSystemMatrix(int rows, int cols, double h) {
   return a;
 }
 
+Eigen::MatrixXd denseLower(const LowerFactor& f) {
+  Eigen::MatrixXd l = Eigen::MatrixXd::Zero(f.size, f.size);
+  for (int j = 0; j < f.size; ++j) {
+    l(j, j) = 1.0 / f.inv_diagonal[j];
+    for (int k = f.col_start[j]; k < f.col_start[j + 1]; ++k) l(f.col_row[k], j) = f.col_value[k];
+  }
+  return l;
+}
+
 SolverSettings convergedSettings(int max_iterations, double tolerance) {
   SolverSettings s;
   s.max_iterations = max_iterations;

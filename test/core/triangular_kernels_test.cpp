@@ -15,15 +15,6 @@ LowerFactor factorOf(const Eigen::SparseMatrix<double>& a) {
   return factor.exportLower();
 }
 
-Eigen::MatrixXd denseLower(const LowerFactor& f) {
-  Eigen::MatrixXd l = Eigen::MatrixXd::Zero(f.size, f.size);
-  for (int j = 0; j < f.size; ++j) {
-    l(j, j) = 1.0 / f.inv_diagonal[j];
-    for (int k = f.col_start[j]; k < f.col_start[j + 1]; ++k) l(f.col_row[k], j) = f.col_value[k];
-  }
-  return l;
-}
-
 NodeBuffer toNodes(const Eigen::MatrixX3d& b) {
   NodeBuffer x(kNodeStride * b.rows(), 0.0);
   for (int k = 0; k < b.rows(); ++k)
@@ -81,7 +72,7 @@ TEST(TriangularKernels, FusedSolveMatchesALibrarySolveForAllThreeColumns) {
 TEST(TriangularKernels, ForwardAndBackwardAreTheTwoTriangularSolves) {
   const LowerFactor l = factorOf(test::gridSystemMatrix(9, 8, 1.0 / 60.0));
   const SupernodalFactor f = makeSupernodal(l);
-  const Eigen::MatrixXd dense = denseLower(l);
+  const Eigen::MatrixXd dense = test::denseLower(l);
   const Eigen::MatrixX3d b = Eigen::MatrixX3d::Random(l.size, 3);
   NodeBuffer x = toNodes(b);
   forwardSolve3(f, x.data());
