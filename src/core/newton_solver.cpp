@@ -169,15 +169,22 @@ SolveResult NewtonSolver::minimize(const SolverInput& in, const SolverSettings& 
       problem.gradient(trial, grad);
     } else {
       // Round-off regime (the predicted decrease is below what g resolves, or no step lowered
-      // it): g cannot tell better from worse, the gradient still can.
-      alpha = 1.0;
-      take(alpha);
-      g_trial = problem.objective(trial);
-      problem.gradient(trial, trial_grad);
-      if (!(free_norm(trial_grad) < free_norm(grad))) {
+      // it): g cannot tell better from worse, |grad g| still can. Backtrack on it instead.
+      const double grad_norm = free_norm(grad);
+      bool lowered = false;
+      for (alpha = 1.0; alpha > 1e-3; alpha *= 0.5) {
+        take(alpha);
+        problem.gradient(trial, trial_grad);
+        if (free_norm(trial_grad) < grad_norm) {
+          lowered = true;
+          break;
+        }
+      }
+      if (!lowered) {
         result.converged = true;  // no step lowers g or |grad g|: x is the minimiser
         break;
       }
+      g_trial = problem.objective(trial);
       grad.swap(trial_grad);
     }
     x.swap(trial);

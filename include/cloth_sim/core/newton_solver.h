@@ -25,8 +25,8 @@ namespace cloth_sim {
 /// cloth), where the projected Hessian converges only linearly (crumpled 6 x 6 test cloth:
 /// 75 iterations instead of 112).
 ///
-/// Near machine precision the Armijo test on g fails by round-off; a full step is then still
-/// taken when it lowers |grad g|. Stops when the full step |dx| / |x - x_0| < tolerance (1e-12
+/// Near machine precision the Armijo test on g fails by round-off; the line search then
+/// backtracks on |grad g| instead. Stops when the full step |dx| / |x - x_0| < tolerance (1e-12
 /// when the settings give 0), when the gradient vanishes, when no step lowers g or |grad g|,
 /// or after max_iterations.
 ///
