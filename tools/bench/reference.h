@@ -14,7 +14,7 @@ struct Reference {
   double g_star = 0.0;       ///< g(x*), kg m^2
   double g_start = 0.0;      ///< g(y), the common initial guess of the iterative solvers
   Points start;              ///< y, m
-  bool converged = false;    ///< Newton's stopping test passed
+  bool converged = false;    ///< Newton's stopping test passed and |grad g| fell by 1e-8
   int newton_iterations = 0;
   double grad_ratio = 0.0;   ///< |grad g(x*)| / |grad g(y)|
   double seconds = 0.0;      ///< wall time to compute it (0 when read from the cache)
