@@ -11,10 +11,10 @@ what="${1:-all}"
 shift || true
 bash "$REPO_ROOT/scripts/build.sh" > /dev/null
 BENCH="$WS/devel/lib/cloth_sim/cloth_sim_bench"
+echo "[bench] $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; load: $(cut -d' ' -f1-3 /proc/loadavg)"
 # One thread everywhere: the timings are single-core and comparable (OpenBLAS would otherwise
 # use both cores inside Newton's factorizations).
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
-echo "[bench] $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; load: $(cut -d' ' -f1-3 /proc/loadavg)"
 case "$what" in
   floor|speed|stability) "$BENCH" "$what" "$@" ;;
   report) ;;
