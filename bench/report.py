@@ -297,18 +297,22 @@ def main():
     if refs:
         bad = [r for r in refs if r["converged"] != "1"]
         iters = [int(r["newton_iterations"]) for r in refs]
-        summary += [f"Newton references: {len(refs)} states, {len(refs) - len(bad)} converged "
-                    f"(|grad g| / |grad g0| <= {fmt(max(num(r['grad_ratio']) for r in refs))}), "
-                    f"Newton iterations after the warm start: median {statistics.median(iters)}, "
-                    f"max {max(iters)}.", ""]
+        good = [num(r["grad_ratio"]) for r in refs if r["converged"] == "1"]
+        summary += [f"Newton references: {len(refs)} states, {len(good)} converged"
+                    + (f" (|grad g| / |grad g0| <= {fmt(max(good))})" if good else "")
+                    + "".join(f"; not converged: {r['case']} state {r['sample']} "
+                              f"(|grad g| / |grad g0| = {fmt(num(r['grad_ratio']))})" for r in bad)
+                    + f". Newton iterations after the warm start: median "
+                    f"{statistics.median(iters)}, max {max(iters)}.", ""]
     for name in ("floor.csv", "kernels.csv"):
         rows = read(name)
         if rows:
             keys = list(rows[0].keys())
             summary += [f"### {name}\n", "| " + " | ".join(keys) + " |",
                         "|" + "---|" * len(keys)]
-            summary += ["| " + " | ".join(fmt(num(r[k])) if k != keys[0] else r[k] for k in keys)
-                        + " |" for r in rows]
+            # Numbers formatted, text (the first column, units) as is.
+            summary += ["| " + " | ".join(r[k] if k == keys[0] or math.isnan(num(r[k]))
+                                          else fmt(num(r[k])) for k in keys) + " |" for r in rows]
             summary.append("")
     with open(os.path.join(RESULTS, "summary.md"), "w") as f:
         f.write("\n".join(summary) + "\n")
