@@ -1,10 +1,11 @@
 # cloth_sim: the two commands of the README, plus a few helpers.
 #   make run    installs what is missing, builds, runs the default demo scene
 #   make test   installs what is missing, builds, runs every test (gate: catkin_test_results)
+#   make bench  benchmark + stability sweep, results and plots in bench/results (README)
 SHELL := /bin/bash
 SCENE ?= hanging
 
-.PHONY: run test build deps clean
+.PHONY: run test build deps clean bench stability
 
 run: deps
 	@bash scripts/build.sh
@@ -15,6 +16,12 @@ test: deps
 
 build: deps
 	@bash scripts/build.sh
+
+bench: deps
+	@bash bench/run.sh all
+
+stability: deps
+	@bash bench/run.sh stability
 
 deps:
 	@bash scripts/install_deps.sh

@@ -7,10 +7,15 @@ add_library(cloth_sim_core
   src/core/dof_map.cpp
   src/core/spring_kernels.cpp
   src/core/sparse_pattern.cpp
+  src/core/cholmod_factor.cpp
+  src/core/triangular_kernels.cpp
+  src/core/local_step.cpp
+  src/core/scalar_system.cpp
   src/core/implicit_euler.cpp
   src/core/explicit_solvers.cpp
   src/core/newton_solver.cpp
   src/core/local_global_solver.cpp
+  src/core/local_global_3n_solver.cpp
   src/core/solver.cpp
   src/core/colliders.cpp
   src/core/grid_builder.cpp
@@ -24,9 +29,15 @@ add_library(cloth_sim_core
   src/core/sphere_impacts.cpp
   src/core/contact_forces.cpp
 )
+# CHOLMOD (SuiteSparse, Debian libsuitesparse-dev): no CMake package in Debian 12, so found by
+# hand. Private: its headers stay in src/core/cholmod_factor.cpp.
+find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
 target_include_directories(cloth_sim_core PUBLIC include ${EIGEN3_INCLUDE_DIRS})
 find_package(tinyobjloader REQUIRED)
-target_link_libraries(cloth_sim_core PUBLIC yaml-cpp PRIVATE tinyobjloader::tinyobjloader_double)
+target_include_directories(cloth_sim_core PRIVATE ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(cloth_sim_core PUBLIC yaml-cpp
+                      PRIVATE tinyobjloader::tinyobjloader_double ${CHOLMOD_LIBRARY})
 set_target_properties(cloth_sim_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
 
@@ -36,7 +47,9 @@ if(CATKIN_ENABLE_TESTING)
   set(CORE_TESTS
     model_test pins_test spring_kernels_test implicit_euler_test explicit_solvers_test
     newton_solver_test local_global_solver_test colliders_test grid_builder_test
-    simulation_test scene_test triangle_mesh_test mesh_builder_test mesh_obstacle_test sphere_impacts_test dynamic_spheres_test)
+    simulation_test scene_test triangle_mesh_test mesh_builder_test mesh_obstacle_test
+    sphere_impacts_test dynamic_spheres_test cholmod_factor_test triangular_kernels_test
+    local_step_test scalar_system_test local_global_3n_solver_test)
   foreach(t ${CORE_TESTS})
     catkin_add_gtest(${t} test/core/${t}.cpp test/core/test_util.cpp
                      WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

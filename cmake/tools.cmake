@@ -1,6 +1,27 @@
-# Tools built on the core: headless runner (included from CMakeLists.txt).
+# Tools built on the core: headless runner and benchmark (included from CMakeLists.txt).
 # ---------------------------------------------------------------------------------------------
-# Tools
-add_executable(cloth_sim_run tools/run_scene.cpp)
-target_link_libraries(cloth_sim_run cloth_sim_core CLI11::CLI11)
+add_library(cloth_sim_tools STATIC tools/step_log.cpp)
+target_link_libraries(cloth_sim_tools PUBLIC cloth_sim_core)
 
+add_executable(cloth_sim_run tools/run_scene.cpp)
+target_link_libraries(cloth_sim_run cloth_sim_tools CLI11::CLI11)
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(run_scene_test test/tools/run_scene_test.cpp)
+  target_link_libraries(run_scene_test GTest::gtest_main)
+  add_dependencies(run_scene_test cloth_sim_run)
+  target_compile_definitions(run_scene_test PRIVATE
+    CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    CLOTH_SIM_RUN_BINARY="$<TARGET_FILE:cloth_sim_run>")
+  catkin_add_gtest(stability_test test/tools/stability_test.cpp)
+  target_link_libraries(stability_test cloth_sim_bench_lib GTest::gtest_main)
+  target_include_directories(stability_test PRIVATE tools/bench)
+endif()
+
+add_library(cloth_sim_bench_lib STATIC
+  tools/bench/cases.cpp tools/bench/reference.cpp tools/bench/speed.cpp tools/bench/stability.cpp
+  tools/bench/floor.cpp)
+target_link_libraries(cloth_sim_bench_lib PUBLIC cloth_sim_core)
+add_executable(cloth_sim_bench tools/bench/bench_main.cpp)
+target_link_libraries(cloth_sim_bench cloth_sim_bench_lib CLI11::CLI11)
+target_compile_definitions(cloth_sim_bench PRIVATE CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")

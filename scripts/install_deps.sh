@@ -17,6 +17,8 @@ PACKAGES=(
   python3-visualization-msgs python3-std-srvs python3-diagnostic-msgs
   # core libraries
   libeigen3-dev libyaml-cpp-dev libtinyobjloader-dev libcli11-dev libsuitesparse-dev
+  # optimized BLAS for CHOLMOD's supernodal factorization (Newton): 3-4x the reference BLAS
+  libopenblas-dev
   # tests
   libgtest-dev libgmock-dev python3-nose
   # headless RViz, screenshots, benchmark plot

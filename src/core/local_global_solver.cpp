@@ -2,181 +2,249 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
 #include "cloth_sim/core/contact_forces.h"
-#include "cloth_sim/core/spring_kernels.h"
 
 namespace cloth_sim {
+namespace {
 
-void LocalGlobalSolver::factorize(const SolverInput& in) {
+Eigen::Map<Eigen::VectorXd> view(NodeBuffer& v) {
+  return Eigen::Map<Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+Eigen::Map<const Eigen::VectorXd> view(const NodeBuffer& v) {
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+
+/// |next - current| / |next - start|: the convergence measure of SolveResult.
+double relativeChange(const NodeBuffer& next, const NodeBuffer& current, const NodeBuffer& start) {
+  const double moved = (view(next) - view(start)).norm();
+  return moved > 0.0 ? (view(next) - view(current)).norm() / moved : 0.0;
+}
+
+}  // namespace
+
+void LocalGlobalSolver::factorize(const SolverInput& in, LinearSolver backend) {
   const Model& model = in.model;
   const Springs& springs = model.springs;
   const double h2 = model.time_step * model.time_step;
   dofs_ = DofMap::fromPins(model.particleCount(), in.pins);
-  const int nf = dofs_.freeCount();
+  const DofMap& dofs = dofs_;
+  const int nf = dofs.freeCount();
 
-  // A = M + h^2 L over the free particles; a spring to a hard-pinned particle keeps only its
-  // diagonal term (its coupling moves to the right-hand side, see beginStep).
-  std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(nf + 3 * springs.size() + in.pins.size());
-  for (int f = 0; f < nf; ++f) entries.emplace_back(f, f, model.mass[dofs_.free_particles[f]]);
-  for (const Pin& pin : in.pins.pins()) {
-    if (!pin.isHard()) {
-      const int f = dofs_.reduced_index[pin.vertex];
-      entries.emplace_back(f, f, h2 * pin.stiffness);
-    }
+  const Eigen::SparseMatrix<double> a = globalStepMatrix(model, in.pins, dofs);
+  system_.factor(a, backend);
+  correction_.clear();  // node order and system changed
+  if (nf > 0) ++factorizations_;
+  estimateCompliance(a, dofs, model.particleCount());
+
+  // Node order: free particles in the system's order, then the hard-pinned ones.
+  free_count_ = nf;
+  const int n = model.particleCount();
+  node_particle_.clear();
+  for (int k = 0; k < nf; ++k) node_particle_.push_back(dofs.free_particles[system_.order()[k]]);
+  for (int p = 0; p < n; ++p) {
+    if (!dofs.isFree(p)) node_particle_.push_back(p);
   }
+  particle_node_.assign(n, 0);
+  node_mass_.resize(n);
+  for (int k = 0; k < n; ++k) {
+    particle_node_[node_particle_[k]] = k;
+    node_mass_[k] = model.mass[node_particle_[k]];
+  }
+
+  springs_ = SpringTable{};
+  pinned_springs_ = SpringTable{};
   for (std::size_t s = 0; s < springs.size(); ++s) {
-    const int i = dofs_.reduced_index[springs.first[s]], j = dofs_.reduced_index[springs.second[s]];
-    const double k = h2 * springs.stiffness[s];
-    if (i >= 0) entries.emplace_back(i, i, k);
-    if (j >= 0) entries.emplace_back(j, j, k);
-    if (i >= 0 && j >= 0) {
-      entries.emplace_back(i, j, -k);
-      entries.emplace_back(j, i, -k);
+    const int a = particle_node_[springs.first[s]], b = particle_node_[springs.second[s]];
+    const double k = springs.stiffness[s], r = springs.rest_length[s];
+    if (a >= nf && b >= nf) {
+      pinned_springs_.add(a, b, 0.0, k, r);
+      continue;
     }
+    springs_.add(a, b, h2 * k * r, k, r);
   }
-  Eigen::SparseMatrix<double> system(nf, nf);
-  system.setFromTriplets(entries.begin(), entries.end());
-  if (nf > 0) {
-    factor_.compute(system);
-    ++factorizations_;
-    // Contact compliance estimate kappa / A_ii, kappa = A_jj (A^-1)_jj measured on the particle
-    // with the largest diagonal (PROTOTYPE).
-    int j = 0;
-    for (int f = 0; f < nf; ++f) if (system.coeff(f, f) > system.coeff(j, j)) j = f;
-    Eigen::VectorXd e = Eigen::VectorXd::Zero(nf);
-    e[j] = 1.0;
-    const double kappa = factor_.solve(e)[j] * system.coeff(j, j);
-    compliance_ = Eigen::VectorXd::Zero(model.particleCount());
-    for (int f = 0; f < nf; ++f) compliance_[dofs_.free_particles[f]] = kappa / system.coeff(f, f);
-  }
-  reduced_rhs_.resize(nf, 3);
-  reduced_x_.resize(nf, 3);
+  springs_.sortByNode();
   prepared_revision_ = in.revision;
   prepared_ = true;
 }
 
-void LocalGlobalSolver::beginStep(const SolverInput& in, const State& state) {
-  if (!prepared_ || prepared_revision_ != in.revision) factorize(in);
+void LocalGlobalSolver::beginStep(const SolverInput& in, const SolverSettings& settings,
+                                  const State& state) {
+  if (!prepared_ || prepared_revision_ != in.revision ||
+      system_.backend() != settings.linear_solver) {
+    factorize(in, settings.linear_solver);
+  }
   const Model& model = in.model;
   problem_ = ImplicitStepProblem::build(model, in.pins, state);
-  const double h2 = problem_.h * problem_.h;
+  h_ = problem_.h;
+  gravity_ = model.gravity;
+  const int n = model.particleCount();
   const Points& y = problem_.inertial;
+
+  const Points constant = globalStepConstant(model, in.pins, dofs_, y);
+  inertial_.assign(static_cast<std::size_t>(kNodeStride) * n, 0.0);
+  rhs_constant_.assign(inertial_.size(), 0.0);
+  for (int k = 0; k < n; ++k) {
+    const int p = node_particle_[k];
+    for (int c = 0; c < 3; ++c) {
+      inertial_[kNodeStride * k + c] = y(c, p);
+      rhs_constant_[kNodeStride * k + c] = constant(c, p);
+    }
+  }
+  constant_energy_ = springEnergy3(pinned_springs_, inertial_.data());
   contacts_ = in.contacts;
   if (contacts_ != nullptr) contacts_->begin(model, state.positions, y, compliance_);
-
-  rhs_constant_ = (y + h2 * model.gravity.replicate(1, y.cols())) * model.mass.asDiagonal();
-  for (const Pin& pin : in.pins.pins()) {
-    if (!pin.isHard()) rhs_constant_.col(pin.vertex) += h2 * pin.stiffness * pin.target;
-  }
-  const Springs& springs = model.springs;
-  for (std::size_t s = 0; s < springs.size(); ++s) {
-    const int i = springs.first[s], j = springs.second[s];
-    const bool free_i = dofs_.isFree(i), free_j = dofs_.isFree(j);
-    if (free_i == free_j) continue;
-    // Boundary spring: the pinned end's position is known; move its coupling to the rhs.
-    const double k = h2 * springs.stiffness[s];
-    if (free_i) rhs_constant_.col(i) += k * y.col(j);
-    else rhs_constant_.col(j) += k * y.col(i);
-  }
 }
 
-double LocalGlobalSolver::iterate(const Points& x, Points& x_next) {
-  const Springs& springs = problem_.model->springs;
-  const double h2 = problem_.h * problem_.h;
-  rhs_ = rhs_constant_;
-  if (contacts_ != nullptr) {
-    // Update the forces from the current iterate first, so the last global solve and the
-    // spheres' reactions use the same forces (exact momentum balance).
-    contacts_->update(x);
-    contacts_->addForces(rhs_);
-  }
-  double spring_energy = 0.0;
-  const std::size_t m = springs.size();
-  for (std::size_t s = 0; s < m; ++s) {
-    // Local step (fused with the J d product): d_s = r_s (x_i - x_j)/|x_i - x_j|.
-    const int i = springs.first[s], j = springs.second[s];
-    const Vec3 d = x.col(i) - x.col(j);
-    const double len = d.norm();
-    const double stretch = len - springs.rest_length[s];
-    spring_energy += 0.5 * springs.stiffness[s] * stretch * stretch;
-    const Vec3 push = (h2 * springs.stiffness[s] * springs.rest_length[s]) * safeDirection(d);
-    rhs_.col(i) += push;
-    rhs_.col(j) -= push;
-  }
-  // Global step: one scalar factor, three right-hand sides.
-  const int nf = dofs_.freeCount();
-  for (int f = 0; f < nf; ++f) reduced_rhs_.row(f) = rhs_.col(dofs_.free_particles[f]).transpose();
-  if (nf > 0) reduced_x_ = factor_.solve(reduced_rhs_);
-  x_next = x;
-  for (int f = 0; f < nf; ++f) x_next.col(dofs_.free_particles[f]) = reduced_x_.row(f).transpose();
-  return problem_.objective(x, spring_energy);
+void LocalGlobalSolver::estimateCompliance(const Eigen::SparseMatrix<double>& a,
+                                           const DofMap& dofs, int n) {
+  // (A^-1)_ii ~ kappa / A_ii, kappa = A_jj (A^-1)_jj measured with one solve on the particle j
+  // with the largest diagonal: exact for a diagonal A, and on a uniform sheet kappa is nearly
+  // the same everywhere. Contacts only need the right order of magnitude (their update is a
+  // relaxed projected Jacobi step).
+  compliance_ = Eigen::VectorXd::Zero(n);
+  const int nf = dofs.freeCount();
+  if (nf == 0) return;
+  const Eigen::VectorXd diagonal = a.diagonal();
+  Eigen::Index j = 0;
+  diagonal.maxCoeff(&j);
+  const auto row = std::find(system_.order().begin(), system_.order().end(), static_cast<int>(j));
+  const std::size_t node = static_cast<std::size_t>(row - system_.order().begin());
+  NodeBuffer unit(static_cast<std::size_t>(kNodeStride) * nf, 0.0);
+  unit[kNodeStride * node] = 1.0;
+  system_.solveInPlace(unit.data());
+  const double kappa = unit[kNodeStride * node] * diagonal[j];
+  for (int f = 0; f < nf; ++f) compliance_[dofs.free_particles[f]] = kappa / diagonal[f];
 }
 
-namespace {
-double relativeChange(const Points& next, const Points& current, const Points& start) {
-  const double moved = (next - start).norm();
-  return moved > 0.0 ? (next - current).norm() / moved : 0.0;
+void LocalGlobalSolver::addContactForces(const NodeBuffer& x, NodeBuffer& rhs) {
+  const int n = static_cast<int>(node_particle_.size());
+  contact_x_.resize(3, n);
+  for (int k = 0; k < n; ++k)
+    for (int c = 0; c < 3; ++c) contact_x_(c, node_particle_[k]) = x[kNodeStride * k + c];
+  // Forces from the current iterate first, so the last global solve and the spheres'
+  // reactions use the same forces (exact momentum balance).
+  contacts_->update(contact_x_);
+  contact_rhs_.setZero(3, n);
+  contacts_->addForces(contact_rhs_);
+  for (int k = 0; k < free_count_; ++k)
+    for (int c = 0; c < 3; ++c) rhs[kNodeStride * k + c] += contact_rhs_(c, node_particle_[k]);
 }
-}  // namespace
+
+double LocalGlobalSolver::pinEnergy(const NodeBuffer& x) const {
+  double e = 0.0;
+  for (const Pin& pin : problem_.pins->pins()) {
+    if (pin.isHard()) continue;
+    const double* xp = &x[kNodeStride * particle_node_[pin.vertex]];
+    e += 0.5 * pin.stiffness * (Vec3(xp[0], xp[1], xp[2]) - pin.target).squaredNorm();
+  }
+  return e;
+}
+
+double LocalGlobalSolver::iterate(const NodeBuffer& x, NodeBuffer& x_next) {
+  const double h2 = h_ * h_;
+  x_next = rhs_constant_;
+  if (contacts_ != nullptr && !contacts_->empty()) addContactForces(x, x_next);
+  const double spring_energy = localStep3(springs_, x.data(), x_next.data());
+  system_.solveInPlace(x_next.data());  // global step: the free nodes, x, y and z at once
+  const std::size_t pinned_begin = static_cast<std::size_t>(kNodeStride) * free_count_;
+  std::copy(x.begin() + pinned_begin, x.end(), x_next.begin() + pinned_begin);
+  return inertiaAndGravity(x.data(), inertial_.data(), node_mass_.data(),
+                           static_cast<int>(node_mass_.size()), gravity_, h2) +
+         h2 * (spring_energy + constant_energy_ + pinEnergy(x));
+}
+
+double LocalGlobalSolver::objectiveAt(const NodeBuffer& x) const {
+  const double h2 = h_ * h_;
+  return inertiaAndGravity(x.data(), inertial_.data(), node_mass_.data(),
+                           static_cast<int>(node_mass_.size()), gravity_, h2) +
+         h2 * (springEnergy3(springs_, x.data()) + constant_energy_ + pinEnergy(x));
+}
+
+NodeBuffer LocalGlobalSolver::initialGuess(const SolverSettings& settings) const {
+  if (!settings.warm_start || correction_.size() != inertial_.size()) return inertial_;
+  NodeBuffer guess(inertial_.size());
+  view(guess) = view(inertial_) + view(correction_);
+  // Only when it is the better start: after a jolt the last correction can point the wrong way.
+  return objectiveAt(guess) < objectiveAt(inertial_) ? guess : inertial_;
+}
+
+void LocalGlobalSolver::finishStep(const NodeBuffer& x, State& state) {
+  correction_.resize(x.size());
+  view(correction_) = view(x) - view(inertial_);
+  Points positions(3, static_cast<Eigen::Index>(node_particle_.size()));
+  for (std::size_t k = 0; k < node_particle_.size(); ++k)
+    for (int c = 0; c < 3; ++c) positions(c, node_particle_[k]) = x[kNodeStride * k + c];
+  state = problem_.finish(positions, state.time);
+}
+
+bool LocalGlobalSolver::observe(int k, const NodeBuffer& x) const {
+  if (!observer_) return true;
+  observed_.resize(3, static_cast<Eigen::Index>(node_particle_.size()));
+  for (std::size_t n = 0; n < node_particle_.size(); ++n)
+    for (int c = 0; c < 3; ++c) observed_(c, node_particle_[n]) = x[kNodeStride * n + c];
+  return observer_(k, observed_);
+}
 
 SolveResult LocalGlobalSolver::step(const SolverInput& in, const SolverSettings& settings,
                                     State& state) {
-  beginStep(in, state);
+  beginStep(in, settings, state);
   clearTrace();
-  Points x = problem_.inertial, x_next;
+  const NodeBuffer start = initialGuess(settings);
+  NodeBuffer x = start, x_next(x.size());
   SolveResult result;
   for (int k = 0; k < settings.max_iterations; ++k) {
     recordTrace(iterate(x, x_next));
     result.iterations = k + 1;
-    result.convergence = relativeChange(x_next, x, problem_.inertial);
+    result.convergence = relativeChange(x_next, x, start);
     x.swap(x_next);
+    if (!observe(k + 1, x)) break;
     if (settings.tolerance > 0.0 && result.convergence < settings.tolerance) {
       result.converged = true;
       break;
     }
   }
   if (tracing()) recordTrace(objectiveAt(x));
-  state = problem_.finish(x, state.time);
+  finishStep(x, state);
   result.used_contacts = solvesContacts();
   return result;
 }
 
-double ChebyshevSolver::calibrateRho(const SolverSettings& settings) {
-  // Plain local/global contracts the error by about rho per iteration once the fast modes are
-  // gone; measure it as the geometric mean of the last update-norm ratios.
-  constexpr int kIterations = 30, kAveraged = 5;
-  Points x = problem_.inertial, x_next;
-  std::vector<double> updates;
-  for (int k = 0; k < std::max(kIterations, settings.max_iterations); ++k) {
-    iterate(x, x_next);
-    updates.push_back((x_next - x).norm());
-    x.swap(x_next);
+double localGlobalRhoBound(const Model& model) {
+  // Linearised, one local/global iteration maps an error e to (M + h^2 L)^-1 B e with
+  // 0 <= B <= h^2 L (x) I3 for springs at or above rest length (B keeps the transverse part of
+  // each spring's stiffness, scaled by r/l). Its spectral radius is therefore at most
+  // mu / (1 + mu), mu = h^2 lambda_max(M^-1 L) <= h^2 max_i 2 d_i / m_i (Gershgorin; d_i the
+  // stiffness summed over particle i's springs). On a grid the bound is tight.
+  std::vector<double> degree(model.particleCount(), 0.0);
+  for (std::size_t s = 0; s < model.springs.size(); ++s) {
+    degree[model.springs.first[s]] += model.springs.stiffness[s];
+    degree[model.springs.second[s]] += model.springs.stiffness[s];
   }
-  const std::size_t last = updates.size() - 1;
-  if (updates[last - kAveraged] <= 0.0 || updates[last] <= 0.0) return 0.0;
-  const double rho = std::pow(updates[last] / updates[last - kAveraged], 1.0 / kAveraged);
-  return std::clamp(rho, 0.0, 0.9999);
+  double ratio = 0.0;
+  for (int i = 0; i < model.particleCount(); ++i) ratio = std::max(ratio, 2.0 * degree[i] / model.mass[i]);
+  const double mu = model.time_step * model.time_step * ratio;
+  return mu / (1.0 + mu);
 }
 
 SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& settings,
                                   State& state) {
-  beginStep(in, state);
+  beginStep(in, settings, state);
   if (settings.chebyshev_rho > 0.0) {
     rho_ = settings.chebyshev_rho;
-  } else if (!calibrated_ || calibrated_revision_ != in.revision) {
-    rho_ = calibrateRho(settings);
-    calibrated_ = true;
-    calibrated_revision_ = in.revision;
+  } else if (!rho_set_ || rho_revision_ != in.revision) {
+    rho_ = localGlobalRhoBound(in.model);
+    rho_set_ = true;
+    rho_revision_ = in.revision;
   }
   const double gamma = settings.chebyshev_gamma;
   const int delay = settings.chebyshev_delay;
-  const Points& start = problem_.inertial;
+  const NodeBuffer start = initialGuess(settings);
 
-  Points x = start, x_prev = start, x_hat, x_hat_prev, x_next;
+  NodeBuffer x = start, x_prev = start, x_hat(x.size()), x_hat_prev(x.size()), x_next(x.size());
   double g_prev = std::numeric_limits<double>::infinity();
   double omega = 1.0;
   int since_restart = 0, solves = 0;
@@ -192,7 +260,10 @@ SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& s
       x = x_hat_prev;
       since_restart = 0;
       accelerated = false;
-      if (solves >= settings.max_iterations) break;
+      if (solves >= settings.max_iterations) {
+        observe(solves, x);  // the step ends on this plain iterate
+        break;
+      }
       g = iterate(x, x_hat);
       ++solves;
     }
@@ -205,7 +276,8 @@ SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& s
     } else {
       omega = (since_restart == delay) ? 2.0 / (2.0 - rho_ * rho_)
                                        : 4.0 / (4.0 - rho_ * rho_ * omega);
-      x_next = omega * (gamma * (x_hat - x) + x - x_prev) + x_prev;
+      view(x_next) = omega * (gamma * (view(x_hat) - view(x)) + view(x) - view(x_prev)) +
+                     view(x_prev);
       accelerated = true;
     }
     result.iterations = solves;
@@ -214,6 +286,18 @@ SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& s
     x_hat_prev.swap(x_hat);
     g_prev = g;
     x.swap(x_next);
+    if (observing()) {  // what the step would return if it stopped here (see the end)
+      if (accelerated && objectiveAt(x) > objectiveAt(x_hat_prev)) {
+        if (!observe(solves, x_hat_prev)) {
+          x = x_hat_prev;
+          accelerated = false;
+          break;
+        }
+      } else if (!observe(solves, x)) {
+        accelerated = false;
+        break;
+      }
+    }
     if (settings.tolerance > 0.0 && result.convergence < settings.tolerance) {
       result.converged = true;
       break;
@@ -224,7 +308,7 @@ SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& s
   // iterate it was built from (two spring passes, no solve).
   if (accelerated && objectiveAt(x) > objectiveAt(x_hat_prev)) x = x_hat_prev;
   if (tracing()) recordTrace(objectiveAt(x));
-  state = problem_.finish(x, state.time);
+  finishStep(x, state);
   result.used_contacts = solvesContacts();
   return result;
 }

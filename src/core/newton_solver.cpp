@@ -8,7 +8,7 @@
 
 namespace cloth_sim {
 
-void NewtonSolver::prepare(const SolverInput& in) {
+void NewtonSolver::prepare(const SolverInput& in, LinearSolver backend) {
   const Model& model = in.model;
   dofs_ = DofMap::fromPins(model.particleCount(), in.pins);
   const Springs& springs = model.springs;
@@ -36,12 +36,15 @@ void NewtonSolver::prepare(const SolverInput& in) {
       slots[9 + b] = pattern_.columnStart(j, i, b);
     }
   }
-  factor_.analyzePattern(pattern_.matrix());
+  backend_ = backend;
+  if (backend_ == LinearSolver::kEigen) eigen_.analyzePattern(pattern_.matrix());
+  else if (dofs_.freeCount() > 0) cholmod_.analyze(pattern_.matrix());
   prepared_revision_ = in.revision;
   prepared_ = true;
 }
 
-void NewtonSolver::assembleHessian(const Model& model, const PinSet& pins, const Points& x) {
+void NewtonSolver::assembleHessian(const Model& model, const PinSet& pins, const Points& x,
+                                   bool clamp_psd) {
   const double h2 = model.time_step * model.time_step;
   double* values = pattern_.matrix().valuePtr();
   std::fill(values, values + pattern_.matrix().nonZeros(), 0.0);
@@ -65,7 +68,7 @@ void NewtonSolver::assembleHessian(const Model& model, const PinSet& pins, const
     if (i < 0 && j < 0) continue;
     const Eigen::Matrix3d hess = h2 * springHessianBlock(x.col(pi) - x.col(pj),
                                                          springs.rest_length[s],
-                                                         springs.stiffness[s], /*clamp_psd=*/true);
+                                                         springs.stiffness[s], clamp_psd);
     if (i >= 0 && j >= 0) {
       const int* slots = spring_slots_[s].data();
       add_block(slots, hess, 1.0);
@@ -78,53 +81,118 @@ void NewtonSolver::assembleHessian(const Model& model, const PinSet& pins, const
   }
 }
 
+bool NewtonSolver::factorize() {
+  ++factorizations_;
+  if (backend_ == LinearSolver::kEigen) {
+    eigen_.factorize(pattern_.matrix());
+    return eigen_.info() == Eigen::Success;
+  }
+  return cholmod_.factorize(pattern_.matrix());
+}
+
 SolveResult NewtonSolver::step(const SolverInput& in, const SolverSettings& settings,
                                State& state) {
-  if (!prepared_ || prepared_revision_ != in.revision) prepare(in);
   const ImplicitStepProblem problem = ImplicitStepProblem::build(in.model, in.pins, state);
+  Points x = problem.inertial;
+  const SolveResult result = minimize(in, settings, problem, x);
+  state = problem.finish(x, state.time);
+  return result;
+}
+
+SolveResult NewtonSolver::minimize(const SolverInput& in, const SolverSettings& settings,
+                                   const ImplicitStepProblem& problem, Points& x) {
+  if (!prepared_ || prepared_revision_ != in.revision || backend_ != settings.linear_solver) {
+    prepare(in, settings.linear_solver);
+  }
   const double tolerance = settings.tolerance > 0.0 ? settings.tolerance : 1e-12;
   const int nf = dofs_.freeCount();
+  auto free_norm = [&](const Points& grad) {
+    double sum = 0.0;
+    for (int f = 0; f < nf; ++f) sum += grad.col(dofs_.free_particles[f]).squaredNorm();
+    return std::sqrt(sum);
+  };
 
-  Points x = problem.inertial;
   double g = problem.objective(x);
-  Points grad, trial;
-  Eigen::VectorXd rhs(3 * nf);
+  Points grad, trial, trial_grad;
+  Eigen::VectorXd rhs(3 * nf), dx(3 * nf);
+  bool near = false;  // last step was full and small: try the exact Hessian
   SolveResult result;
+  problem.gradient(x, grad);
   for (int it = 0; it < settings.max_iterations; ++it) {
-    problem.gradient(x, grad);
     for (int f = 0; f < nf; ++f) rhs.segment<3>(3 * f) = -grad.col(dofs_.free_particles[f]);
     if (rhs.squaredNorm() == 0.0) {
       result.converged = true;
       break;
     }
-    assembleHessian(in.model, in.pins, x);
-    factor_.factorize(pattern_.matrix());
-    ++factorizations_;
-    if (factor_.info() != Eigen::Success) break;
-    const Eigen::VectorXd dx = factor_.solve(rhs);
-    const double slope = -rhs.dot(dx);  // grad . dx < 0
-    double alpha = 1.0, g_trial = std::numeric_limits<double>::infinity();
-    for (; alpha > 1e-12; alpha *= 0.5) {
+    bool factored = false;
+    if (near) {
+      assembleHessian(in.model, in.pins, x, /*clamp_psd=*/false);
+      factored = factorize();
+    }
+    const bool exact = factored;
+    if (!factored) {
+      assembleHessian(in.model, in.pins, x, /*clamp_psd=*/true);
+      if (!factorize()) break;  // cannot happen for H >= M > 0 short of non-finite input
+    }
+    if (backend_ == LinearSolver::kEigen) {
+      dx = eigen_.solve(rhs);
+    } else {
+      dx = rhs;
+      cholmod_.solveInPlace(dx.data(), 1);
+    }
+    auto take = [&](double alpha) {
       trial = x;
       for (int f = 0; f < nf; ++f) trial.col(dofs_.free_particles[f]) += alpha * dx.segment<3>(3 * f);
-      g_trial = problem.objective(trial);
-      if (g_trial <= g + 1e-4 * alpha * slope) break;
-    }
+    };
     result.iterations = it + 1;
-    if (!(g_trial <= g)) {  // no decrease left at machine precision: x is the minimiser
+    // The full Newton step measures the distance to the minimiser whatever the line search
+    // does; below tolerance, take it and stop.
+    const double moved = (x - problem.inertial).norm();
+    const double full_step = dx.norm() / std::max(moved, std::numeric_limits<double>::min());
+    if (full_step < tolerance) {
+      take(1.0);
+      x.swap(trial);
+      result.convergence = full_step;
       result.converged = true;
       break;
+    }
+    const double slope = -rhs.dot(dx);  // grad . dx < 0
+    double alpha = 1.0, g_trial = std::numeric_limits<double>::infinity();
+    if (-slope > 1e-13 * std::abs(g)) {
+      for (; alpha > 1e-12; alpha *= 0.5) {
+        take(alpha);
+        g_trial = problem.objective(trial);
+        if (g_trial <= g + 1e-4 * alpha * slope) break;
+      }
+    }
+    if (alpha > 1e-12 && g_trial <= g) {
+      problem.gradient(trial, grad);
+    } else {
+      // Round-off regime (the predicted decrease is below what g resolves, or no step lowered
+      // it): g cannot tell better from worse, |grad g| still can. Backtrack on it instead.
+      const double grad_norm = free_norm(grad);
+      bool lowered = false;
+      for (alpha = 1.0; alpha > 1e-3; alpha *= 0.5) {
+        take(alpha);
+        problem.gradient(trial, trial_grad);
+        if (free_norm(trial_grad) < grad_norm) {
+          lowered = true;
+          break;
+        }
+      }
+      if (!lowered) {
+        result.converged = true;  // no step lowers g or |grad g|: x is the minimiser
+        break;
+      }
+      g_trial = problem.objective(trial);
+      grad.swap(trial_grad);
     }
     x.swap(trial);
     g = g_trial;
-    const double moved = (x - problem.inertial).norm();
-    result.convergence = moved > 0.0 ? alpha * dx.norm() / moved : 0.0;
-    if (result.convergence < tolerance) {
-      result.converged = true;
-      break;
-    }
+    result.convergence = alpha * dx.norm() / std::max((x - problem.inertial).norm(),
+                                                      std::numeric_limits<double>::min());
+    near = exact || (alpha == 1.0 && full_step < 1e-2);
   }
-  state = problem.finish(x, state.time);
   return result;
 }
 

@@ -4,10 +4,27 @@
 #include <stdexcept>
 
 #include "cloth_sim/core/explicit_solvers.h"
+#include "cloth_sim/core/local_global_3n_solver.h"
 #include "cloth_sim/core/local_global_solver.h"
 #include "cloth_sim/core/newton_solver.h"
 
 namespace cloth_sim {
+
+const char* linearSolverName(LinearSolver solver) {
+  switch (solver) {
+    case LinearSolver::kFused: return "fused";
+    case LinearSolver::kCholmod: return "cholmod";
+    case LinearSolver::kEigen: return "eigen";
+  }
+  return "unknown";
+}
+
+LinearSolver linearSolverFromName(const std::string& name) {
+  for (LinearSolver s : {LinearSolver::kFused, LinearSolver::kCholmod, LinearSolver::kEigen}) {
+    if (name == linearSolverName(s)) return s;
+  }
+  throw std::invalid_argument("unknown linear solver '" + name + "' (known: fused, cholmod, eigen)");
+}
 
 void SolverSettings::validate() const {
   if (max_iterations < 1) {
@@ -32,7 +49,7 @@ void SolverSettings::validate() const {
 }
 
 std::vector<std::string> solverNames() {
-  return {"explicit_euler", "verlet", "newton", "local_global", "chebyshev"};
+  return {"explicit_euler", "verlet", "newton", "local_global", "chebyshev", "local_global_3n"};
 }
 
 std::unique_ptr<Solver> makeSolver(const std::string& name) {
@@ -41,6 +58,7 @@ std::unique_ptr<Solver> makeSolver(const std::string& name) {
   if (name == "newton") return std::make_unique<NewtonSolver>();
   if (name == "local_global") return std::make_unique<LocalGlobalSolver>();
   if (name == "chebyshev") return std::make_unique<ChebyshevSolver>();
+  if (name == "local_global_3n") return std::make_unique<LocalGlobal3nSolver>();
   std::string list;
   for (const auto& n : solverNames()) list += (list.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown solver '" + name + "' (known: " + list + ")");

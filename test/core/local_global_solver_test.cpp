@@ -1,4 +1,5 @@
 #include <cmath>
+#include <memory>
 
 #include <gtest/gtest.h>
 
@@ -89,6 +90,109 @@ TEST(LocalGlobal, FactorKeptAcrossStepsAndTargetMoves) {
   lg.step({c.g.model, c.pins, 8}, SolverSettings{}, s);  // a new revision: refactor once
   lg.step({c.g.model, c.pins, 8}, SolverSettings{}, s);
   EXPECT_EQ(lg.factorizationCount(), 2);
+}
+
+TEST(LocalGlobal, EveryLinearSolverGivesTheSameTrajectory) {
+  // The hand-written kernels and the two libraries differ in speed only.
+  SwingingCloth c;
+  std::vector<Points> results;
+  for (LinearSolver backend : {LinearSolver::kFused, LinearSolver::kCholmod, LinearSolver::kEigen}) {
+    LocalGlobalSolver lg;
+    SolverSettings settings;
+    settings.linear_solver = backend;
+    State s = c.state;
+    for (int k = 0; k < 20; ++k) lg.step(c.input(), settings, s);
+    results.push_back(s.positions);
+  }
+  EXPECT_LT((results[1] - results[0]).norm(), 1e-11 * results[0].norm());
+  EXPECT_LT((results[2] - results[0]).norm(), 1e-11 * results[0].norm());
+}
+
+TEST(LocalGlobal, SwitchingLinearSolverRefactorsOnce) {
+  SwingingCloth c;
+  LocalGlobalSolver lg;
+  SolverSettings settings;
+  State s = c.state;
+  lg.step(c.input(), settings, s);
+  settings.linear_solver = LinearSolver::kEigen;
+  lg.step(c.input(), settings, s);
+  lg.step(c.input(), settings, s);
+  EXPECT_EQ(lg.factorizationCount(), 2);
+}
+
+TEST(LocalGlobal, ObserverSeesEveryIterateAndTheLastIsTheResult) {
+  SwingingCloth c;
+  for (bool chebyshev : {false, true}) {
+    std::unique_ptr<LocalGlobalSolver> solver;
+    if (chebyshev) solver = std::make_unique<ChebyshevSolver>();
+    else solver = std::make_unique<LocalGlobalSolver>();
+    State s = c.state;
+    solver->step(c.input(), SolverSettings{}, s);  // chebyshev: measures rho first
+    std::vector<int> seen;
+    Points last;
+    solver->setIterateObserver([&](int k, const Points& x) {
+      seen.push_back(k);
+      last = x;
+      return true;
+    });
+    s = c.state;
+    solver->step(c.input(), test::convergedSettings(12, 0.0), s);
+    // k counts solves; a chebyshev restart spends two solves between two observations.
+    ASSERT_FALSE(seen.empty());
+    if (!chebyshev) {
+      ASSERT_EQ(seen.size(), 12u);
+    }
+    for (std::size_t k = 1; k < seen.size(); ++k) EXPECT_GT(seen[k], seen[k - 1]);
+    EXPECT_EQ(seen.back(), 12) << solver->name();
+    EXPECT_EQ(last, s.positions) << solver->name();
+    // Returning false stops the step at that iterate.
+    seen.clear();
+    solver->setIterateObserver([&](int k, const Points& x) {
+      seen.push_back(k);
+      last = x;
+      return k < 5;
+    });
+    s = c.state;
+    const SolveResult r = solver->step(c.input(), test::convergedSettings(12, 0.0), s);
+    EXPECT_GE(seen.back(), 5) << solver->name();
+    EXPECT_LE(seen.back(), 6) << solver->name();
+    EXPECT_EQ(r.iterations, seen.back()) << solver->name();
+    EXPECT_EQ(last, s.positions) << solver->name();
+  }
+}
+
+TEST(LocalGlobal, WarmStartNeverStartsWorseAndConvergesToTheSameSolution) {
+  SwingingCloth c;
+  for (bool chebyshev : {false, true}) {
+    std::unique_ptr<LocalGlobalSolver> cold, warm;
+    if (chebyshev) {
+      cold = std::make_unique<ChebyshevSolver>();
+      warm = std::make_unique<ChebyshevSolver>();
+    } else {
+      cold = std::make_unique<LocalGlobalSolver>();
+      warm = std::make_unique<LocalGlobalSolver>();
+    }
+    SolverSettings settings = test::convergedSettings(5, 0.0);
+    State b = c.state;
+    std::vector<double> cold_trace, warm_trace;
+    cold->setObjectiveTrace(&cold_trace);
+    warm->setObjectiveTrace(&warm_trace);
+    for (int k = 0; k < 20; ++k) {
+      settings.warm_start = false;
+      State from = b;  // both step from the same state: the warm solver's
+      cold->step(c.input(), settings, from);
+      settings.warm_start = true;
+      warm->step(c.input(), settings, b);
+      EXPECT_LE(warm_trace.front(), cold_trace.front()) << "step " << k;  // g(x_0) <= g(y)
+    }
+    // Run to convergence: the start changes the path, not the solution.
+    State from = b;
+    settings = test::convergedSettings(100000, 1e-14);
+    cold->step(c.input(), settings, from);
+    settings.warm_start = true;
+    warm->step(c.input(), settings, b);
+    EXPECT_LT((b.positions - from.positions).norm(), 1e-9 * b.positions.norm()) << warm->name();
+  }
 }
 
 TEST(Chebyshev, ConvergesToNewtonsSolution) {

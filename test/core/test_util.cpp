@@ -66,6 +66,34 @@ double momentumDrift(Solver& solver, const SolverSettings& settings, int steps) 
   return (s.velocities * g.model.mass - p0).norm() / s.velocities.colwise().norm().dot(g.model.mass);
 }
 
+Eigen::SparseMatrix<double> gridSystemMatrix(int rows, int cols, double h) {
+  const BuiltObject g = makeGrid(rows, cols, 400.0, 40.0, 4.0);
+  const int n = g.model.particleCount();
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int i = 0; i < n; ++i) entries.emplace_back(i, i, g.model.mass[i]);
+  const Springs& s = g.model.springs;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const double w = h * h * s.stiffness[k];
+    entries.emplace_back(s.first[k], s.first[k], w);
+    entries.emplace_back(s.second[k], s.second[k], w);
+    entries.emplace_back(s.first[k], s.second[k], -w);
+    entries.emplace_back(s.second[k], s.first[k], -w);
+  }
+  Eigen::SparseMatrix<double> a(n, n);
+  a.setFromTriplets(entries.begin(), entries.end());
+  a.makeCompressed();
+  return a;
+}
+
+Eigen::MatrixXd denseLower(const LowerFactor& f) {
+  Eigen::MatrixXd l = Eigen::MatrixXd::Zero(f.size, f.size);
+  for (int j = 0; j < f.size; ++j) {
+    l(j, j) = 1.0 / f.inv_diagonal[j];
+    for (int k = f.col_start[j]; k < f.col_start[j + 1]; ++k) l(f.col_row[k], j) = f.col_value[k];
+  }
+  return l;
+}
+
 SolverSettings convergedSettings(int max_iterations, double tolerance) {
   SolverSettings s;
   s.max_iterations = max_iterations;

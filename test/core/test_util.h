@@ -3,6 +3,10 @@
 
 #include <string>
 
+#include <Eigen/Dense>
+#include <Eigen/SparseCore>
+
+#include "cloth_sim/core/cholmod_factor.h"
 #include "cloth_sim/core/grid_builder.h"
 #include "cloth_sim/core/simulation.h"
 #include "cloth_sim/core/solver.h"
@@ -35,6 +39,13 @@ double softPinSagError(Solver& solver, const SolverSettings& settings);
 /// Steps a free 5 x 5 cloth (no gravity, pins or damping, random velocities) @p steps times and
 /// returns |P_end - P_0| / sum_i m_i |v_i|: the relative drift of the total linear momentum.
 double momentumDrift(Solver& solver, const SolverSettings& settings, int steps);
+
+/// M + h^2 L_scalar of a rows x cols grid (makeGrid stiffnesses 400/40/4, no pins): the global
+/// step matrix of local/global, symmetric positive definite, both triangles stored.
+Eigen::SparseMatrix<double> gridSystemMatrix(int rows, int cols, double h);
+
+/// L of @p factor as a dense matrix (diagonal included).
+Eigen::MatrixXd denseLower(const LowerFactor& factor);
 
 /// Settings that run an iterative solver to convergence.
 SolverSettings convergedSettings(int max_iterations = 100000, double tolerance = 1e-13);

@@ -2,13 +2,13 @@
 /// Liu, Bargteil, O'Brien, Kavan 2013, "Fast Simulation of Mass-Spring Systems", ACM TOG 32(6).
 #pragma once
 
+#include <functional>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/SparseCholesky>
 
 #include "cloth_sim/core/dof_map.h"
 #include "cloth_sim/core/implicit_euler.h"
+#include "cloth_sim/core/local_step.h"
+#include "cloth_sim/core/scalar_system.h"
 #include "cloth_sim/core/solver.h"
 
 namespace cloth_sim {
@@ -18,8 +18,12 @@ namespace cloth_sim {
 ///  - global step: (M + h^2 L) x = M y + h^2 (J d + m g + soft-pin and boundary terms).
 /// L = L_scalar (x) I3, so ONE scalar N_free x N_free sparse Cholesky factor serves x, y and z
 /// (a three-column solve). The factor is kept across steps and recomputed only when the
-/// SolverInput revision changes (h, a stiffness, a mass or the pin set). Moving a pin target
-/// only changes the right-hand side.
+/// SolverInput revision or SolverSettings::linear_solver changes (h, a stiffness, a mass or the
+/// pin set). Moving a pin target only changes the right-hand side.
+///
+/// Inside a step everything lives in the factor's node order and a padded x, y, z, 0 layout, so
+/// an iteration is two streaming passes (springs, then the fused triangular solves) and no
+/// permutation or gather (README, "Performance").
 ///
 /// g never increases from one iterate to the next; the iterates converge (linearly) to the
 /// implicit Euler solution that NewtonSolver finds. The initial guess is the inertial prediction y.
@@ -33,14 +37,36 @@ class LocalGlobalSolver : public Solver {
   /// the initial guess and every iterate. Costs one spring pass per step. nullptr disables.
   void setObjectiveTrace(std::vector<double>* trace) { trace_ = trace; }
 
+  /// Diagnostic hook (benchmark): called after iteration k (1, 2, ...) with the iterate x_k
+  /// (m, all particles), the one the step would return if it stopped there; returning false
+  /// stops the step there. Costs a conversion per iteration. An empty function disables.
+  using IterateObserver = std::function<bool(int, const Points&)>;
+  void setIterateObserver(IterateObserver observer) { observer_ = std::move(observer); }
+
+  /// The global step's factored system (valid after the first step).
+  const ScalarSystem& system() const { return system_; }
+  /// The springs as the local step sees them (valid after the first step).
+  const SpringTable& springTable() const { return springs_; }
+
  protected:
-  /// Refactors when the revision changed; builds the constant right-hand side of this step.
-  void beginStep(const SolverInput& input, const State& state);
+  /// Refactors if needed; builds y and the constant part of the right-hand side.
+  void beginStep(const SolverInput& input, const SolverSettings& settings, const State& state);
   /// One local + global iteration from @p x into @p x_next (hard pins kept at their targets).
   /// Returns g(x), which the local step gets almost for free.
-  double iterate(const Points& x, Points& x_next);
+  double iterate(const NodeBuffer& x, NodeBuffer& x_next);
   /// g(x) with one spring pass and no solve.
-  double objectiveAt(const Points& x) const { return problem_.objective(x); }
+  double objectiveAt(const NodeBuffer& x) const;
+  /// The initial guess y of this step, in node order.
+  const NodeBuffer& inertial() const { return inertial_; }
+  /// The first iterate: y, or with SolverSettings::warm_start y plus the previous step's
+  /// correction when that has the lower g.
+  NodeBuffer initialGuess(const SolverSettings& settings) const;
+  /// Ends the step: positions @p x, velocities (x - x_n) / h, time + h; keeps x - y.
+  void finishStep(const NodeBuffer& x, State& state);
+  /// Calls the observer; false if it asked to stop.
+  bool observe(int k, const NodeBuffer& x) const;
+  bool observing() const { return static_cast<bool>(observer_); }
+
   void recordTrace(double g) {
     if (trace_ != nullptr) trace_->push_back(g);
   }
@@ -51,23 +77,44 @@ class LocalGlobalSolver : public Solver {
   /// Whether this step solves contact forces (SolverInput::contacts was set).
   bool solvesContacts() const { return contacts_ != nullptr; }
 
-  ImplicitStepProblem problem_;
-
  private:
-  void factorize(const SolverInput& input);
+  void factorize(const SolverInput& input, LinearSolver backend);
+  double pinEnergy(const NodeBuffer& x) const;
+  /// Per particle estimate of (A^-1)_ii (1/kg), 0 when pinned: the contacts' compliance.
+  void estimateCompliance(const Eigen::SparseMatrix<double>& a, const DofMap& dofs, int n);
+  /// Contact forces of iterate @p x added to the right-hand side @p rhs (node order).
+  void addContactForces(const NodeBuffer& x, NodeBuffer& rhs);
 
   std::uint64_t prepared_revision_ = 0;
   bool prepared_ = false;
+  ScalarSystem system_;
+  int free_count_ = 0;
+  std::vector<int> node_particle_;  ///< node -> particle: free nodes in system order, then hard pins
+  std::vector<int> particle_node_;  ///< particle -> node
+  std::vector<double> node_mass_;   ///< kg, per node
+  SpringTable springs_;             ///< springs with at least one free end
   DofMap dofs_;
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> factor_;
-  Points rhs_constant_;            ///< 3 x N: M y + h^2 (m g + k_pin t + k x_boundary)
+  SpringTable pinned_springs_;      ///< springs with two pinned ends: constant energy
+  double h_ = 0.0;
+  Vec3 gravity_ = Vec3::Zero();
+
+  ImplicitStepProblem problem_;
+  NodeBuffer inertial_;             ///< y
+  NodeBuffer rhs_constant_;         ///< M y + h^2 (m g + k_pin t + k x_boundary)
+  NodeBuffer correction_;           ///< x_{n} - y of the previous step (warm start)
+  double constant_energy_ = 0.0;    ///< springs between pinned nodes, J
   ContactForces* contacts_ = nullptr;  ///< this step's contact forces, or nullptr
-  Eigen::VectorXd compliance_;     ///< per particle: estimate of (A^-1)_ii (1/kg), 0 if pinned
-  Points rhs_;                     ///< 3 x N work buffer
-  Eigen::MatrixX3d reduced_rhs_;   ///< N_free x 3
-  Eigen::MatrixX3d reduced_x_;     ///< N_free x 3
+  Eigen::VectorXd compliance_;         ///< per particle (1/kg), see estimateCompliance
+  Points contact_x_, contact_rhs_;     ///< particle-order work buffers of the contacts
+  mutable Points observed_;
+  IterateObserver observer_;
   std::vector<double>* trace_ = nullptr;
 };
+
+/// An upper bound on the spectral radius of local/global near a solution (springs at or above
+/// their rest length): mu / (1 + mu) with mu = h^2 max_i 2 d_i / m_i, d_i the summed stiffness
+/// of particle i's springs (N/m), m_i its mass (kg). E.g. 0.9998 for the 32 x 32 hanging cloth.
+double localGlobalRhoBound(const Model& model);
 
 /// Local/global with Chebyshev semi-iterative acceleration (Wang 2015, "A Chebyshev
 /// Semi-Iterative Approach for Accelerating Projective and Position-based Dynamics"):
@@ -75,8 +122,8 @@ class LocalGlobalSolver : public Solver {
 ///   omega = 1 for the first S iterations, 2 / (2 - rho^2) at S, then 4 / (4 - rho^2 omega).
 /// Safeguard: when an accelerated iterate raises g, it is replaced by the plain local/global
 /// iterate (which never raises g) and the acceleration restarts; the returned iterate is never
-/// worse than the last plain local/global one. With rho = 0 in the settings, rho is measured
-/// after each refactorization from the contraction rate of plain local/global.
+/// worse than the last plain local/global one. With rho = 0 in the settings, rho is the bound
+/// localGlobalRhoBound, recomputed when the revision changes (a stiffness, mass or h).
 class ChebyshevSolver final : public LocalGlobalSolver {
  public:
   const char* name() const override { return "chebyshev"; }
@@ -86,11 +133,9 @@ class ChebyshevSolver final : public LocalGlobalSolver {
   double rho() const { return rho_; }
 
  private:
-  double calibrateRho(const SolverSettings& settings);
-
   double rho_ = 0.0;
-  std::uint64_t calibrated_revision_ = 0;
-  bool calibrated_ = false;
+  std::uint64_t rho_revision_ = 0;
+  bool rho_set_ = false;
 };
 
 }  // namespace cloth_sim

@@ -12,6 +12,19 @@
 
 namespace cloth_sim {
 
+/// How local/global and chebyshev solve their global step (M + h^2 L) x = b, and how newton
+/// factors its Hessian (kEigen: Eigen SimplicialLLT; the others: CHOLMOD supernodal). All give
+/// the same iterates to round-off; they differ in speed only (README, "Performance").
+enum class LinearSolver {
+  kFused,    ///< CHOLMOD factor (AMD or METIS ordering), hand-written fused 3-column solves
+  kCholmod,  ///< CHOLMOD factor and CHOLMOD's own solve, x, y and z as three columns
+  kEigen,    ///< Eigen SimplicialLLT (AMD) and its solve: the first implementation, kept to compare
+};
+/// "fused", "cholmod", "eigen".
+const char* linearSolverName(LinearSolver solver);
+/// The LinearSolver called @p name; throws std::invalid_argument listing the names if unknown.
+LinearSolver linearSolverFromName(const std::string& name);
+
 /// Iteration controls shared by the solvers (each uses what applies to it).
 struct SolverSettings {
   /// Iterations per step: local/global and chebyshev run exactly this many unless tolerance
@@ -20,12 +33,22 @@ struct SolverSettings {
   /// Stop when the convergence measure (relative position change of the last iteration, see
   /// SolveResult) drops below this. 0 = always run max_iterations (fixed real-time cost).
   double tolerance = 0.0;
-  /// chebyshev: spectral radius rho of plain local/global, in [0, 1). 0 = estimate on line.
+  /// chebyshev: spectral radius rho of plain local/global, in [0, 1). 0 = the upper bound
+  /// localGlobalRhoBound (an overestimate only slows the acceleration down; an underestimate,
+  /// as the former measured value was, makes the slow modes grow until the safeguard restarts).
   double chebyshev_rho = 0.0;
-  /// chebyshev: under-relaxation gamma of Wang 2015, in (0, 1].
-  double chebyshev_gamma = 0.9;
+  /// chebyshev: under-relaxation gamma of Wang 2015, in (0, 1]. 1 (none) converged 5-30 %
+  /// faster than Wang's 0.9 on the benchmark scenes.
+  double chebyshev_gamma = 1.0;
   /// chebyshev: plain local/global iterations before acceleration starts (Wang's S), >= 1.
   int chebyshev_delay = 3;
+  /// local_global, chebyshev: start each step from y + (x_n - y_{n-1}), the previous step's
+  /// correction, instead of y, whenever that start has the lower objective g. Motion is
+  /// coherent from step to step, so the correction (what the springs did to the inertial
+  /// prediction) changes little: fewer iterations for the same error.
+  bool warm_start = false;
+  /// How the linear systems are solved (same result, different speed), see LinearSolver.
+  LinearSolver linear_solver = LinearSolver::kFused;
 
   /// Throws std::invalid_argument naming the first field out of its range.
   void validate() const;
@@ -60,7 +83,8 @@ struct SolverInput {
 class Solver {
  public:
   virtual ~Solver() = default;
-  /// Name used to select it: "explicit_euler", "verlet", "newton", "local_global", "chebyshev".
+  /// Name used to select it: "explicit_euler", "verlet", "newton", "local_global", "chebyshev",
+  /// "local_global_3n".
   virtual const char* name() const = 0;
   /// Advances @p state by one step. May leave non-finite values on blow-up: the caller checks.
   virtual SolveResult step(const SolverInput& input, const SolverSettings& settings,

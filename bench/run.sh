@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# The benchmark of the README in one command (make bench): builds (Release), then
+#   floor      bandwidth floor and per-iteration cost on the paper's 81 x 81 cloth
+#   speed      every solver x iteration count x scene x grid, error against converged Newton
+#   stability  every solver over stiffness x time step x hard cases
+# and turns the CSV files into plots and tables (bench/report.py). Results: bench/results/.
+# Usage: bench/run.sh [floor|speed|stability|report|all] [extra cloth_sim_bench options]
+set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/../scripts/env.sh"
+what="${1:-all}"
+shift || true
+bash "$REPO_ROOT/scripts/build.sh" > /dev/null
+BENCH="$WS/devel/lib/cloth_sim/cloth_sim_bench"
+echo "[bench] $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; load: $(cut -d' ' -f1-3 /proc/loadavg)"
+# One thread everywhere: the timings are single-core and comparable (OpenBLAS would otherwise
+# use both cores inside Newton's factorizations).
+export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
+case "$what" in
+  floor|speed|stability) "$BENCH" "$what" "$@" ;;
+  report) ;;
+  all)
+    "$BENCH" floor
+    "$BENCH" speed
+    "$BENCH" stability
+    ;;
+  *) echo "usage: $0 [floor|speed|stability|report|all] [options]" >&2; exit 1 ;;
+esac
+echo "[bench] load after: $(cut -d' ' -f1-3 /proc/loadavg)"
+/usr/bin/python3 "$REPO_ROOT/bench/report.py" "$REPO_ROOT/bench/results"
+echo "[bench] results in $REPO_ROOT/bench/results"

@@ -1,0 +1,73 @@
+// The headless runner as a user calls it: exit codes, CSV / JSON per step, final positions.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace {
+
+const std::string kRunner = CLOTH_SIM_RUN_BINARY;
+const std::string kScene = std::string(CLOTH_SIM_SOURCE_DIR) + "/config/scenes/hanging.yaml";
+
+int run(const std::string& args) {
+  const int status = std::system((kRunner + " " + args + " > /dev/null 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+int countLines(const std::string& text) {
+  int n = 0;
+  for (char c : text) n += c == '\n';
+  return n;
+}
+
+std::string tmp(const std::string& name) { return ::testing::TempDir() + "cloth_sim_run_" + name; }
+
+TEST(RunScene, WritesOneCsvRowPerStepAndTheFinalPositions) {
+  const std::string csv = tmp("steps.csv"), positions = tmp("positions.csv");
+  ASSERT_EQ(run("--scene " + kScene + " --duration 0.1 --iterations 3 --csv " + csv +
+                " --positions " + positions),
+            0);
+  const std::string table = slurp(csv);
+  EXPECT_EQ(countLines(table), 1 + 6);  // header + 0.1 s at h = 1/60
+  EXPECT_EQ(table.rfind("step,time,wall_ms,solve_ms,iterations,convergence,converged,max_strain,"
+                        "energy,contacts,status\n", 0), 0u);
+  EXPECT_NE(table.find("\n6,0.1,"), std::string::npos);
+  EXPECT_NE(table.find(",3,"), std::string::npos);  // the iteration count took effect
+  EXPECT_EQ(countLines(slurp(positions)), 1 + 32 * 32);
+}
+
+TEST(RunScene, JsonHasTheRunAndEveryStep) {
+  const std::string json = tmp("steps.json");
+  ASSERT_EQ(run("--scene " + kScene + " --duration 0.05 --dt 0.0125 --solver chebyshev --json " + json), 0);
+  const std::string text = slurp(json);
+  EXPECT_EQ(text.front(), '{');
+  EXPECT_NE(text.find("\"solver\": \"chebyshev\""), std::string::npos);
+  EXPECT_NE(text.find("\"time_step\": 0.0125"), std::string::npos);
+  EXPECT_NE(text.find("{\"step\": 4,"), std::string::npos);
+  EXPECT_EQ(text.find("{\"step\": 5,"), std::string::npos);
+  EXPECT_NE(text.find("]}"), std::string::npos);
+}
+
+TEST(RunScene, BadArgumentsExitWithOne) {
+  EXPECT_EQ(run("--scene " + kScene + " --solver rk4"), 1);
+  EXPECT_EQ(run("--scene /nonexistent.yaml"), 1);
+  EXPECT_EQ(run("--scene " + kScene + " --dt -0.01"), 1);
+  EXPECT_EQ(run("--scene " + kScene + " --iterations 0"), 1);
+  EXPECT_EQ(run("--scene " + kScene + " --linear-solver lu"), 1);
+  EXPECT_EQ(run("--scene " + kScene + " --csv a.csv --json b.json"), 1);
+  EXPECT_EQ(run("--scene " + kScene + " --duration 0.02 --csv /nonexistent/dir/x.csv"), 1);
+  EXPECT_EQ(run("--help"), 0);
+}
+
+}  // namespace

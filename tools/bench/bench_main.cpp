@@ -1,0 +1,107 @@
+// cloth_sim_bench: speed against error, the bandwidth floor, the stability sweep (README).
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "floor.h"
+#include "speed.h"
+#include "stability.h"
+
+int main(int argc, char** argv) {
+  using namespace cloth_sim::bench;
+  CLI::App app{"cloth_sim benchmark (see README, 'Benchmark')"};
+  app.require_subcommand(1);
+  std::string source_dir = CLOTH_SIM_SOURCE_DIR;
+
+  SpeedOptions speed;
+  speed.out_dir = source_dir + "/bench/results";
+  speed.cache_dir = source_dir + "/bench/cache";
+  CLI::App* speed_cmd = app.add_subcommand("speed", "speed against error of every solver");
+  speed_cmd->add_option("--out", speed.out_dir, "output directory")->capture_default_str();
+  speed_cmd->add_option("--cache", speed.cache_dir, "Newton reference cache ('' = none)")
+      ->capture_default_str();
+  speed_cmd->add_option("--scenes", speed.scenes, "scenes")->delimiter(',')->capture_default_str()
+      ->check(CLI::IsMember({"hanging", "drape"}));
+  speed_cmd->add_option("--grids", speed.grids, "grid sizes (rows = cols)")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(4, 400));
+  speed_cmd->add_option("--solvers", speed.solvers, "solver labels (default: all)")->delimiter(',')
+      ->check(CLI::IsMember(solverLabels()));
+  speed_cmd->add_option("--iterations", speed.iterations, "iteration counts")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+  speed_cmd->add_option("--duration", speed.duration, "simulated s per timed run")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  speed_cmd->add_option("--samples", speed.samples, "error samples per case")
+      ->capture_default_str()->check(CLI::Range(1, 100));
+  speed_cmd->add_option("--budget", speed.budget, "wall s per timed run (after min steps)")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  speed_cmd->add_option("--trace-iterations", speed.trace_iterations,
+                        "cap of the per-iteration error traces")
+      ->capture_default_str()->check(CLI::Range(1, 1000000));
+  bool no_paper = false;
+  speed_cmd->add_flag("--no-paper", no_paper, "skip the paper's 81 x 81 cloth");
+
+  StabilityOptions stability;
+  stability.out_dir = source_dir + "/bench/results";
+  CLI::App* stab_cmd = app.add_subcommand("stability", "stability sweep over stiffness, time step, hard cases");
+  stab_cmd->add_option("--out", stability.out_dir, "output directory")->capture_default_str();
+  stab_cmd->add_option("--grid", stability.grid, "particles per side")->capture_default_str()
+      ->check(CLI::Range(3, 200));
+  stab_cmd->add_option("--solvers", stability.solvers, "solvers")->delimiter(',')
+      ->capture_default_str()->check(CLI::IsMember(cloth_sim::solverNames()));
+  stab_cmd->add_option("--stiffness", stability.stiffness, "structural stiffness values, N/m")
+      ->delimiter(',')->check(CLI::PositiveNumber);
+  stab_cmd->add_option("--dt", stability.time_steps, "time steps, s")->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  stab_cmd->add_option("--iterations", stability.iterations, "iterations per step")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+  stab_cmd->add_option("--duration", stability.duration, "simulated s per cell")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  stab_cmd->add_option("--damping", stability.damping, "damping, 1/s")->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  std::vector<std::string> scenario_names;
+  stab_cmd->add_option("--scenarios", scenario_names, "release, teleport, sphere")->delimiter(',')
+      ->check(CLI::IsMember({"release", "teleport", "sphere"}));
+
+  FloorOptions floor_options;
+  floor_options.out_dir = source_dir + "/bench/results";
+  CLI::App* floor_cmd = app.add_subcommand("floor", "bandwidth floor and per-iteration cost, paper cloth");
+  floor_cmd->add_option("--out", floor_options.out_dir, "output directory")->capture_default_str();
+  floor_cmd->add_option("--steps", floor_options.steps, "steps per timed run")
+      ->capture_default_str()->check(CLI::Range(2, 100000));
+  floor_cmd->add_option("--rounds", floor_options.rounds, "interleaved rounds")
+      ->capture_default_str()->check(CLI::Range(1, 1000));
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 1;
+  }
+  try {
+    speed.scenes_dir = source_dir + "/config/scenes";
+    floor_options.scenes_dir = speed.scenes_dir;
+    if (*floor_cmd) runFloor(floor_options);
+    if (*speed_cmd) {
+      speed.paper = !no_paper;
+      runSpeed(speed);
+    }
+    if (*stab_cmd) {
+      if (!scenario_names.empty()) {
+        stability.scenarios.clear();
+        for (const std::string& n : scenario_names) {
+          for (Scenario s : {Scenario::kRelease, Scenario::kTeleport, Scenario::kSphere}) {
+            if (n == scenarioName(s)) stability.scenarios.push_back(s);
+          }
+        }
+      }
+      runStability(stability);
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

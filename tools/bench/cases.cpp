@@ -1,0 +1,46 @@
+#include "cases.h"
+
+#include <cmath>
+
+namespace cloth_sim::bench {
+
+BenchCase makeCase(const std::string& scenes_dir, const std::string& scene, int grid) {
+  BenchCase c;
+  c.scene = scene;
+  c.grid = grid;
+  c.name = scene + "-" + std::to_string(grid);
+  c.config = loadSceneFile(scenes_dir + "/" + scene + ".yaml");
+  const int old_rows = c.config.grid.rows, old_cols = c.config.grid.cols;
+  c.config.grid.rows = grid;
+  c.config.grid.cols = grid;
+  // Pins were resolved to vertex indices at load time: move each to the same place on the
+  // sheet at the new resolution (corners stay corners).
+  auto scale = [grid](int index, int old_count) {
+    return static_cast<int>(std::lround(static_cast<double>(index) * (grid - 1) / (old_count - 1)));
+  };
+  for (PinSpec& pin : c.config.pins) {
+    pin.vertex = gridVertex(scale(pin.vertex / old_cols, old_rows), scale(pin.vertex % old_cols, old_cols), grid);
+  }
+  return c;
+}
+
+BenchCase makePaperCase(const std::string& scenes_dir) {
+  BenchCase c = makeCase(scenes_dir, "hanging", 81);
+  c.name = "paper-81";
+  c.paper = true;
+  c.config.grid.shear_pattern = ShearPattern::kTriangle;
+  c.config.grid.has_bending = true;
+  c.config.time_step = 1.0 / 30.0;
+  return c;
+}
+
+SceneConfig withSolver(SceneConfig config, const std::string& solver, int iterations,
+                       LinearSolver linear, bool warm_start) {
+  config.options.solver = solver;
+  config.options.settings.max_iterations = iterations;
+  config.options.settings.linear_solver = linear;
+  config.options.settings.warm_start = warm_start;
+  return config;
+}
+
+}  // namespace cloth_sim::bench

@@ -1,0 +1,34 @@
+// Speed against error: every solver and iteration count on the benchmark scenes (README).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace cloth_sim::bench {
+
+struct SpeedOptions {
+  std::string scenes_dir;                         ///< config/scenes
+  std::string out_dir;                            ///< CSV files go here
+  std::string cache_dir;                          ///< Newton references; empty = no cache
+  std::vector<std::string> scenes = {"hanging", "drape"};
+  std::vector<int> grids = {32, 64, 81, 128};
+  bool paper = true;                              ///< also the paper's 81 x 81 cloth
+  std::vector<std::string> solvers;               ///< labels (solverLabels()); empty = all
+  std::vector<int> iterations = {1, 2, 5, 10, 20, 50};
+  double duration = 1.0;   ///< s of simulated time per timed run (from rest)
+  int samples = 4;         ///< states along the trajectory where the error is measured
+  double budget = 6.0;     ///< s of wall time after which a timed run stops (>= min_steps)
+  int min_steps = 4;
+  int trace_iterations = 3000;  ///< cap of the per-iteration error traces (local/global, chebyshev)
+};
+
+/// The solver configurations the benchmark knows: "local_global" (fused kernels),
+/// "local_global:cholmod", "local_global:eigen", "local_global_3n", "chebyshev",
+/// "local_global+warm", "chebyshev+warm" (SolverSettings::warm_start), "newton",
+/// "explicit_euler", "verlet".
+std::vector<std::string> solverLabels();
+
+/// Runs the benchmark and writes speed.csv, traces.csv, references.csv and cases.csv.
+void runSpeed(const SpeedOptions& options);
+
+}  // namespace cloth_sim::bench

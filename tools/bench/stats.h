@@ -1,0 +1,35 @@
+// Small statistics helpers for the benchmark.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace cloth_sim::bench {
+
+/// The p-quantile (0..1) of @p values by linear interpolation; NaN when empty.
+inline double quantile(std::vector<double> values, double p) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(values.begin(), values.end());
+  const double pos = p * (values.size() - 1);
+  const std::size_t lo = static_cast<std::size_t>(std::floor(pos));
+  const std::size_t hi = std::min(lo + 1, values.size() - 1);
+  return values[lo] + (pos - lo) * (values[hi] - values[lo]);
+}
+
+inline double median(const std::vector<double>& values) { return quantile(values, 0.5); }
+
+inline double maxOf(const std::vector<double>& values) {
+  double m = -std::numeric_limits<double>::infinity();
+  for (double v : values) m = std::max(m, v);
+  return values.empty() ? std::numeric_limits<double>::quiet_NaN() : m;
+}
+
+/// Wall-clock seconds since an arbitrary epoch.
+inline double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace cloth_sim::bench
