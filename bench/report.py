@@ -2,9 +2,10 @@
 """Turns the benchmark's CSV files into plots and Markdown tables (README, "Benchmark").
 
 Usage: bench/report.py [results_dir]   (default: bench/results next to this script)
-Reads speed.csv, traces.csv, references.csv, cases.csv, floor.csv, kernels.csv, stability.csv
+Reads speed.csv, traces.csv, references.csv, cases.csv, floor.csv, kernels.csv, stability.csv,
+scaling.csv
 (whichever exist) and writes speed.png, speed_position.png, converge.png and summary.md,
-speed_table.md, stability.md. Needs Debian's python3-matplotlib (hence /usr/bin/python3).
+speed_table.md, stability.md, scaling.md. Needs Debian's python3-matplotlib (hence /usr/bin/python3).
 """
 import csv
 import math
@@ -277,6 +278,19 @@ def stability_tables(stab):
     return "\n".join(out)
 
 
+def scaling_table(rows):
+    keys = ["case", "parameter", "particles", "spheres", "obstacle_triangles", "ms_median",
+            "ms_p10", "ms_p90", "solve_ms_median", "rest_ms_median", "rest_us_per_particle"]
+    head = ["case", "spheres or grid", "particles", "spheres", "obstacle triangles",
+            "ms/step median", "p10", "p90", "in the solver (ms)", "outside the solver (ms)",
+            "outside, us per particle"]
+    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in rows:
+        out.append("| " + " | ".join(r[k] if k in keys[:5] else fmt(num(r[k]))
+                                     for k in keys) + " |")
+    return "\n".join(out)
+
+
 def main():
     speed, traces = read("speed.csv"), read("traces.csv")
     summary = []
@@ -316,6 +330,10 @@ def main():
             summary.append("")
     with open(os.path.join(RESULTS, "summary.md"), "w") as f:
         f.write("\n".join(summary) + "\n")
+    scaling = read("scaling.csv")
+    if scaling:
+        with open(os.path.join(RESULTS, "scaling.md"), "w") as f:
+            f.write(scaling_table(scaling) + "\n")
     stab = read("stability.csv")
     if stab:
         with open(os.path.join(RESULTS, "stability.md"), "w") as f:

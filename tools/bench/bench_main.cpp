@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "floor.h"
+#include "scaling.h"
 #include "speed.h"
 #include "stability.h"
 
@@ -75,6 +76,18 @@ int main(int argc, char** argv) {
   floor_cmd->add_option("--rounds", floor_options.rounds, "interleaved rounds")
       ->capture_default_str()->check(CLI::Range(1, 1000));
 
+  ScalingOptions scaling;
+  scaling.out_dir = source_dir + "/bench/results";
+  CLI::App* scaling_cmd =
+      app.add_subcommand("scaling", "cost against sphere count and against cloth size on mesh obstacles");
+  scaling_cmd->add_option("--out", scaling.out_dir, "output directory")->capture_default_str();
+  scaling_cmd->add_option("--duration", scaling.duration, "simulated s per case")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  scaling_cmd->add_option("--spheres", scaling.sphere_counts, "sphere counts")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(0, 10000));
+  scaling_cmd->add_option("--grids", scaling.obstacle_grids, "cloth sizes over the obstacles")
+      ->delimiter(',')->capture_default_str()->check(CLI::Range(4, 400));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -83,7 +96,10 @@ int main(int argc, char** argv) {
   try {
     speed.scenes_dir = source_dir + "/config/scenes";
     floor_options.scenes_dir = speed.scenes_dir;
+    scaling.scenes_dir = speed.scenes_dir;
+    scaling.meshes_dir = source_dir + "/config/meshes";
     if (*floor_cmd) runFloor(floor_options);
+    if (*scaling_cmd) runScaling(scaling);
     if (*speed_cmd) {
       speed.paper = !no_paper;
       runSpeed(speed);
