@@ -47,13 +47,11 @@ SphereCollider sphereFromRequest(const SpawnSphere::Request& request, const Vec3
     throw std::invalid_argument("mass " + str(request.mass) +
                                 " kg must be finite and >= 0 (0 = kinematic)");
   }
-  if (request.mass > 0.0) {
-    throw std::invalid_argument("mass " + str(request.mass) +
-                                " kg: dynamic spheres are not supported yet; use mass 0 for a "
-                                "kinematic sphere (it keeps its velocity whatever it hits)");
-  }
   if (!std::isfinite(request.friction) || request.friction < 0.0) {
     throw std::invalid_argument("friction " + str(request.friction) + " must be finite and >= 0");
+  }
+  if (!(request.restitution >= 0.0 && request.restitution <= 1.0)) {
+    throw std::invalid_argument("restitution " + str(request.restitution) + " must be in [0, 1]");
   }
   requireFinite(center, "center");
   requireFinite(velocity, "velocity");
@@ -62,6 +60,8 @@ SphereCollider sphereFromRequest(const SpawnSphere::Request& request, const Vec3
   sphere.radius = request.radius;
   sphere.velocity = velocity;
   sphere.friction = request.friction;
+  sphere.mass = request.mass;
+  sphere.restitution = request.restitution;
   return sphere;
 }
 
@@ -82,6 +82,9 @@ SphereInfo toSphereInfo(const SphereCollider& sphere) {
   info.radius = sphere.radius;
   info.velocity = toVector3Msg(sphere.velocity);
   info.friction = sphere.friction;
+  info.mass = sphere.mass;
+  info.angular_velocity = toVector3Msg(sphere.angular_velocity);
+  info.restitution = sphere.restitution;
   return info;
 }
 

@@ -65,7 +65,9 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   r.mass = -1.0;
   cases.emplace_back(r, "mass -1 kg must be finite and >= 0");
   r.mass = 2.0;
-  cases.emplace_back(r, "dynamic spheres are not supported yet");
+  r.restitution = 1.5;
+  cases.emplace_back(r, "restitution 1.5 must be in [0, 1]");
+  r.restitution = 0.0;
   r.mass = 0.0;
   r.velocity.x = kInf;
   cases.emplace_back(r, "velocity (inf, 0, 0) is not finite");

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -47,6 +48,20 @@ TEST(Conversions, AValidSphereRequestBecomesAKinematicSphere) {
   EXPECT_EQ(s.velocity, Vec3(0, 0, -1));
   EXPECT_EQ(s.radius, 0.2);
   EXPECT_EQ(s.friction, 0.4);
+  EXPECT_FALSE(s.isDynamic());
+}
+
+TEST(Conversions, AMassiveSphereRequestBecomesADynamicSphere) {
+  SpawnSphere::Request request = sphereRequest(0.1, 2.5, 0.2);
+  request.restitution = 0.6;
+  const SphereCollider s = sphereFromRequest(request, Vec3(0, 0, 1), Vec3(3, 0, 0));
+  EXPECT_TRUE(s.isDynamic());
+  EXPECT_EQ(s.mass, 2.5);
+  EXPECT_EQ(s.restitution, 0.6);
+  EXPECT_EQ(s.velocity, Vec3(3, 0, 0));
+  const SphereInfo info = toSphereInfo(s);
+  EXPECT_EQ(info.mass, 2.5);
+  EXPECT_EQ(info.restitution, 0.6);
 }
 
 TEST(Conversions, EveryBadSphereRequestIsRefusedSayingWhy) {
@@ -63,12 +78,19 @@ TEST(Conversions, EveryBadSphereRequestIsRefusedSayingWhy) {
       {sphereRequest(kInf), o, o, "radius inf m"},
       {sphereRequest(0.1, -1.0), o, o, "mass -1 kg must be finite and >= 0"},
       {sphereRequest(0.1, kNaN), o, o, "mass nan kg"},
-      {sphereRequest(0.1, 2.0), o, o, "dynamic spheres are not supported yet"},
       {sphereRequest(0.1, 0.0, -0.5), o, o, "friction -0.5 must be finite and >= 0"},
       {sphereRequest(0.1), Vec3(kNaN, 0, 0), o, "center (nan, 0, 0) is not finite"},
       {sphereRequest(0.1), o, Vec3(0, 0, kInf), "velocity (0, 0, inf) is not finite"},
   };
-  for (const Case& c : cases) {
+  SpawnSphere::Request bouncy = sphereRequest(0.1, 2.0);
+  bouncy.restitution = 1.5;
+  SpawnSphere::Request unknown_bounce = sphereRequest(0.1, 2.0);
+  unknown_bounce.restitution = kNaN;
+  const Case restitution_cases[] = {{bouncy, o, o, "restitution 1.5 must be in [0, 1]"},
+                                    {unknown_bounce, o, o, "restitution nan must be in [0, 1]"}};
+  std::vector<Case> all(std::begin(cases), std::end(cases));
+  all.insert(all.end(), std::begin(restitution_cases), std::end(restitution_cases));
+  for (const Case& c : all) {
     const std::string e = errorOf([&] { sphereFromRequest(c.request, c.center, c.velocity); });
     EXPECT_NE(e.find(c.reason), std::string::npos) << "expected '" << c.reason << "', got '" << e
                                                      << "'";

@@ -31,8 +31,8 @@ void requireFinite(const Vec3& v, const std::string& what);
 
 /// The sphere a cloth/spawn_sphere request asks for, with @p center (m) and @p velocity (m/s)
 /// already transformed into ~frame_id. Refuses (std::invalid_argument) a radius that is not
-/// finite and > 0, a mass that is not finite and >= 0, a mass > 0 (dynamic spheres do not exist
-/// yet: only kinematic ones, mass 0) and a friction that is not finite and >= 0.
+/// finite and > 0, a mass that is not finite and >= 0 (0 = kinematic, > 0 = dynamic), a friction
+/// that is not finite and >= 0 and a restitution outside [0, 1].
 SphereCollider sphereFromRequest(const SpawnSphere::Request& request, const Vec3& center,
                                  const Vec3& velocity);
 
