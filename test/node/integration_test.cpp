@@ -1,5 +1,5 @@
 // cloth_sim_node through demo.launch with a real master: markers and state rates and content,
-// a pin moved in another frame, spheres spawned (still and thrown) and removed, reset.
+// a pin moved in another frame, spheres spawned (still, thrown, dynamic) and removed, reset.
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -243,6 +243,49 @@ TEST(Integration, AThrownKinematicSphereKeepsItsVelocityThroughTheCloth) {
   const Vec3 expected = velocity * (last.sim_time - first.sim_time);
   EXPECT_LT((travelled - expected).norm(), 1e-9) << travelled.transpose();
   EXPECT_GT(last.spheres[0].center.y, 0.9) << "the sphere did not pass through";
+}
+
+TEST(Integration, AThrownDynamicSphereFallsAndIsSlowedByTheCloth) {
+  NodeProbe& p = probe();
+  reset();
+  ros::WallDuration(2.0).sleep();  // let the cloth swing down into the plane y = 0.5
+  const double mass = 0.2, speed = 4.0;  // kg, m/s: crosses y = 0.5 after 0.2 s, 0.2 m lower
+  SpawnSphere::Request req;
+  req.center = stamped("world", 0.0, -0.3, 1.0);
+  req.velocity.y = speed;
+  req.radius = 0.1;
+  req.mass = mass;
+  const auto res = call<SpawnSphere>("cloth/spawn_sphere", req);
+  ASSERT_TRUE(res.success) << res.message;
+
+  const auto states = p.collectStates(0.8);
+  ASSERT_GE(states.size(), 10u);
+  int contacts = 0;
+  double slowest = speed;
+  for (const ClothState& s : states) {
+    contacts += s.contacts;
+    ASSERT_EQ(s.spheres.size(), 1u);
+    EXPECT_EQ(s.spheres[0].mass, mass);
+    slowest = std::min(slowest, s.spheres[0].velocity.y);
+  }
+  EXPECT_GT(contacts, 0) << "the sphere never touched the cloth";
+  std::printf("[measured] dynamic sphere: slowest horizontal speed %.3f m/s (thrown at %.1f)\n",
+              slowest, speed);
+  EXPECT_LT(slowest, 0.9 * speed) << "the cloth did not push back on the sphere";
+  const ClothState& first = states.front();
+  const ClothState& last = states.back();
+  const double dt = last.sim_time - first.sim_time;
+  // Gravity acts on it: by the end it falls faster than the cloth alone could hold it.
+  EXPECT_LT(last.spheres[0].velocity.z, first.spheres[0].velocity.z - 0.5 * 9.81 * dt);
+
+  // Its marker follows it.
+  const auto arrays = p.collectMarkers(0.3);
+  ASSERT_GE(arrays.size(), 3u);
+  const auto* early = findMarker(arrays.front(), "spheres", res.id);
+  const auto* late = findMarker(arrays.back(), "spheres", res.id);
+  ASSERT_NE(early, nullptr);
+  ASSERT_NE(late, nullptr);
+  EXPECT_LT(late->pose.position.z, early->pose.position.z - 0.05) << "the marker does not fall";
 }
 
 TEST(Integration, ResetRestoresTheInitialState) {
