@@ -1,6 +1,7 @@
 #include "cloth_sim/node/cloth_sim_node.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include <visualization_msgs/MarkerArray.h>
@@ -125,6 +126,9 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
   if (markers_pub_.getNumSubscribers() == 0) return;
   const Points& x = sim_.state().positions;
   const Eigen::VectorXd strain = vertexStrain(sim_.model(), x);
+  // Static obstacles can be large: sent with the first array and then once a second.
+  const auto per_second = static_cast<std::uint64_t>(std::max(1.0, std::round(options_.render_rate)));
+  const bool with_obstacles = renders_++ % per_second == 0;
   const MarkerScene scene{x,
                           sim_.model().triangles,
                           strain,
@@ -132,7 +136,8 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
                           sim_.colliders().spheres(),
                           sim_.colliders().ground(),
                           cloth_center_,
-                          ground_size_};
+                          ground_size_,
+                          with_obstacles ? &sim_.colliders().meshes() : nullptr};
   std_msgs::Header header;
   header.stamp = ros::Time::now();
   header.frame_id = options_.frame_id;

@@ -123,6 +123,26 @@ Marker makeCloth(const MarkerScene& scene, const MarkerStyle& style,
   return m;
 }
 
+Marker makeObstacle(const MeshObstacle& obstacle, int id, const std_msgs::Header& header,
+                    Sanitizer& sanitize) {
+  Marker m = makeMarker(header, kObstaclesNs, id, Marker::TRIANGLE_LIST);
+  const TriangleMesh& mesh = obstacle.mesh();
+  m.points.reserve(3 * mesh.triangleCount());
+  m.colors.reserve(3 * mesh.triangleCount());
+  for (int t = 0; t < mesh.triangleCount(); ++t) {
+    const Vec3 a = mesh.vertices.col(mesh.triangles(0, t)), b = mesh.vertices.col(mesh.triangles(1, t)),
+               c = mesh.vertices.col(mesh.triangles(2, t));
+    const Vec3 n = (b - a).cross(c - a).normalized();
+    const auto f = static_cast<float>(shadeFactor(n));
+    const std_msgs::ColorRGBA color = rgba(0.55 * f, 0.42 * f, 0.30 * f, 1.0);  // wood brown
+    for (const Vec3* p : {&a, &b, &c}) {
+      m.points.push_back(sanitize.point(*p));
+      m.colors.push_back(color);
+    }
+  }
+  return m;
+}
+
 }  // namespace
 
 std_msgs::ColorRGBA strainColor(double strain, double scale) {
@@ -168,6 +188,12 @@ MarkerBuild buildMarkers(const MarkerScene& scene, const MarkerStyle& style,
     g.color = rgba(0.75, 0.75, 0.7, 1.0);  // light: lit at a grazing angle it still shows
     out.push_back(g);
     build.shown.ground = true;
+  }
+
+  if (scene.obstacles != nullptr) {
+    for (std::size_t k = 0; k < scene.obstacles->size(); ++k) {
+      out.push_back(makeObstacle(*(*scene.obstacles)[k], static_cast<int>(k), header, sanitize));
+    }
   }
 
   for (int id : before.pins) {

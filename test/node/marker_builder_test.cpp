@@ -200,6 +200,36 @@ TEST_F(MarkerBuilderTest, ShadingDarkensByTheShadeFactorOfTheVertexNormal) {
   EXPECT_LT(f, 1.0);
 }
 
+TEST_F(MarkerBuilderTest, MeshObstaclesAreDrawnOnlyWhenGiven) {
+  EXPECT_TRUE(find(build(), kObstaclesNs).empty());
+  TriangleMesh mesh;
+  mesh.vertices.resize(3, 4);
+  mesh.vertices << 0, 1, 0, 0,  //
+      0, 0, 1, 0,               //
+      0, 0, 0, 1;
+  mesh.triangles.resize(3, 2);
+  mesh.triangles << 0, 0,  //
+      1, 2,                //
+      2, 3;
+  const std::vector<std::shared_ptr<const MeshObstacle>> obstacles{
+      std::make_shared<const MeshObstacle>(mesh, 0.01, 0.0)};
+  MarkerScene scene{positions_, triangles_, strain_, pins_, spheres_, ground_, Vec3(0, 0, 0), 4.0,
+                    &obstacles};
+  const MarkerBuild b = buildMarkers(scene, style_, header_, {});
+  const auto drawn = find(b, kObstaclesNs);
+  ASSERT_EQ(drawn.size(), 1u);
+  EXPECT_EQ(drawn[0]->id, 0);
+  EXPECT_EQ(drawn[0]->type, Marker::TRIANGLE_LIST);
+  ASSERT_EQ(drawn[0]->points.size(), 6u);
+  ASSERT_EQ(drawn[0]->colors.size(), 6u);
+  // The second triangle (0, 2, 3) in order, at the mesh's coordinates.
+  EXPECT_EQ(drawn[0]->points[4].y, 1.0);
+  EXPECT_EQ(drawn[0]->points[5].z, 1.0);
+  // Flat shaded: one colour per triangle, darker for the face turned from the light.
+  EXPECT_EQ(drawn[0]->colors[0].r, drawn[0]->colors[2].r);
+  EXPECT_NE(drawn[0]->colors[0].r, drawn[0]->colors[3].r);
+}
+
 TEST_F(MarkerBuilderTest, InconsistentInputIsRefused) {
   strain_ = Eigen::VectorXd::Zero(3);
   EXPECT_THROW(build(), std::invalid_argument);

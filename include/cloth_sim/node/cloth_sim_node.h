@@ -106,6 +106,7 @@ class ClothSimNode {
   std::unique_ptr<dynamic_reconfigure::Server<ClothSimConfig>> reconfigure_;
   std::unique_ptr<PinHandles> pin_handles_;
   ros::SteadyTimer step_timer_, render_timer_, diagnostics_timer_, summary_timer_;
+  std::uint64_t renders_ = 0;  ///< marker arrays sent; mesh obstacles go with one a second
 };
 
 }  // namespace cloth_sim::node

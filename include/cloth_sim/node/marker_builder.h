@@ -2,6 +2,7 @@
 /// Core state -> visualization_msgs/MarkerArray for cloth/markers. Pure: no ROS handle, no clock.
 #pragma once
 
+#include <memory>
 #include <set>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include "cloth_sim/core/colliders.h"
+#include "cloth_sim/core/mesh_obstacle.h"
 #include "cloth_sim/core/pins.h"
 #include "cloth_sim/core/types.h"
 
@@ -21,6 +23,7 @@ inline constexpr const char* kClothNs = "cloth";      ///< one TRIANGLE_LIST
 inline constexpr const char* kPinsNs = "pins";        ///< one SPHERE per pin, at its target
 inline constexpr const char* kSpheresNs = "spheres";  ///< one SPHERE per sphere collider
 inline constexpr const char* kGroundNs = "ground";    ///< one thin CUBE, when there is a ground
+inline constexpr const char* kObstaclesNs = "obstacles";  ///< one TRIANGLE_LIST per mesh obstacle
 
 /// Everything drawn, in ~frame_id (m). References must outlive the build.
 struct MarkerScene {
@@ -32,6 +35,9 @@ struct MarkerScene {
   GroundPlane ground;                          ///< drawn only when enabled
   Vec3 ground_center = Vec3::Zero();           ///< m, the ground square is centred below this
   double ground_size = 3.0;                    ///< m, side of the ground square
+  /// Static mesh obstacles (id = index), or nullptr to leave them out of this array: they never
+  /// move, so the node sends them only now and then (RViz keeps a marker until it is deleted).
+  const std::vector<std::shared_ptr<const MeshObstacle>>* obstacles = nullptr;
 };
 
 /// How things look.
@@ -59,7 +65,8 @@ struct MarkerBuild {
 };
 
 /// Builds the array: the cloth as one TRIANGLE_LIST with a colour per point (strainColor,
-/// shaded), a SPHERE per pin and per sphere collider, the ground; every marker ADD (add or
+/// shaded), a SPHERE per pin and per sphere collider, the ground, the mesh obstacles when given
+/// (flat shaded, one colour); every marker ADD (add or
 /// modify in place), plus a DELETE for each pin or sphere of @p before that no longer exists.
 /// Every coordinate is finite (see MarkerBuild::sanitized). Throws std::invalid_argument if
 /// the strain size differs from the particle count or a triangle index is out of range.
