@@ -31,6 +31,8 @@ STYLE = {
     "chebyshev": ("tab:green", "D"),
     "local_global+warm": ("tab:olive", "o"),
     "chebyshev+warm": ("tab:olive", "D"),
+    "anderson": ("tab:orange", "P"),
+    "anderson+warm": ("tab:orange", "X"),
     "newton": ("tab:red", "*"),
     "explicit_euler": ("tab:purple", "x"),
     "verlet": ("tab:pink", "+"),

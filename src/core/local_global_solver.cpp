@@ -313,4 +313,108 @@ SolveResult ChebyshevSolver::step(const SolverInput& in, const SolverSettings& s
   return result;
 }
 
+void AndersonSolver::resetHistory() {
+  history_ = 0;
+  next_column_ = 0;  // columns 0 .. history_ - 1 are the ones in use until the ring is full
+  has_last_ = false;
+}
+
+void AndersonSolver::pushHistory(const NodeBuffer& f, const NodeBuffer& g_map, int window) {
+  const Eigen::Index n = static_cast<Eigen::Index>(f.size());
+  if (d_f_.rows() != n || d_f_.cols() != window) {
+    d_f_.resize(n, window);
+    d_g_.resize(n, window);
+    gram_.setZero(window, window);
+    history_ = 0;
+    next_column_ = 0;
+  }
+  if (has_last_) {
+    // The least-squares problem does not depend on the column order: overwrite the oldest.
+    const int c = next_column_;
+    d_f_.col(c) = view(f) - view(f_last_);
+    d_g_.col(c) = view(g_map) - view(g_last_);
+    history_ = std::min(history_ + 1, window);
+    next_column_ = (c + 1) % window;
+    for (int j = 0; j < history_; ++j) gram_(c, j) = gram_(j, c) = d_f_.col(c).dot(d_f_.col(j));
+  }
+  f_last_ = f;
+  g_last_ = g_map;
+  has_last_ = true;
+}
+
+void AndersonSolver::extrapolate(const NodeBuffer& f, const NodeBuffer& g_map,
+                                 NodeBuffer& x) const {
+  view(x) = view(g_map);
+  if (history_ == 0) return;
+  // Normal equations (dF^T dF) theta = dF^T F (dF^T dF kept up to date column by column), with
+  // a tiny Tikhonov term against nearly collinear columns.
+  Eigen::MatrixXd gram = gram_.topLeftCorner(history_, history_);
+  const Eigen::VectorXd rhs = d_f_.leftCols(history_).transpose() * view(f);
+  gram.diagonal().array() += 1e-12 * std::max(gram.diagonal().maxCoeff(), 1e-300);
+  const Eigen::VectorXd theta = gram.ldlt().solve(rhs);
+  if (!theta.allFinite()) return;
+  view(x) -= d_g_.leftCols(history_) * theta;
+}
+
+SolveResult AndersonSolver::step(const SolverInput& in, const SolverSettings& settings,
+                                 State& state) {
+  beginStep(in, settings, state);
+  const int window = settings.anderson_window;
+  const NodeBuffer start = initialGuess(settings);
+  NodeBuffer x = start, x_next(x.size()), g_map(x.size()), g_map_prev(x.size()), f(x.size());
+  double g_prev = std::numeric_limits<double>::infinity();
+  int solves = 0;
+  bool accelerated = false;  // whether x came from an extrapolation
+  resetHistory();
+  SolveResult result;
+  clearTrace();
+  while (solves < settings.max_iterations) {
+    double g = iterate(x, g_map);
+    ++solves;
+    if (accelerated && g > g_prev) {
+      // Safeguard: the extrapolated x raised g. Back to the plain iterate G(x_prev), whose g
+      // is <= g_prev, and forget the history.
+      ++rejections_;
+      x = g_map_prev;
+      accelerated = false;
+      resetHistory();
+      if (solves >= settings.max_iterations) {
+        observe(solves, x);  // the step ends on this plain iterate
+        break;
+      }
+      g = iterate(x, g_map);
+      ++solves;
+    }
+    recordTrace(g);
+    view(f) = view(g_map) - view(x);
+    pushHistory(f, g_map, window);
+    extrapolate(f, g_map, x_next);
+    accelerated = history_ > 0;
+    result.iterations = solves;
+    result.convergence = relativeChange(x_next, x, start);
+    g_map_prev.swap(g_map);
+    g_prev = g;
+    x.swap(x_next);
+    if (observing()) {  // what the step would return if it stopped here (see the end)
+      const bool plain_better = accelerated && objectiveAt(x) > objectiveAt(g_map_prev);
+      if (!observe(solves, plain_better ? g_map_prev : x)) {
+        if (plain_better) x = g_map_prev;
+        accelerated = false;
+        break;
+      }
+    }
+    if (settings.tolerance > 0.0 && result.convergence < settings.tolerance) {
+      result.converged = true;
+      break;
+    }
+  }
+  result.iterations = solves;
+  // Never worse than the plain iterate it was extrapolated from (two spring passes, no solve).
+  if (accelerated && objectiveAt(x) > objectiveAt(g_map_prev)) x = g_map_prev;
+  if (tracing()) recordTrace(objectiveAt(x));
+  finishStep(x, state);
+  result.used_contacts = solvesContacts();
+  return result;
+}
+
 }  // namespace cloth_sim

@@ -128,7 +128,7 @@ const auto kNonNegative = [](double v) { return v >= 0.0; };
 
 void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& options) {
   const std::string path = "solver";
-  r.map(node, path, {"name", "iterations", "tolerance", "chebyshev"});
+  r.map(node, path, {"name", "iterations", "tolerance", "chebyshev", "anderson"});
   if (node["name"]) {
     options.solver = r.text(node["name"], path + ".name");
     try {
@@ -154,6 +154,11 @@ void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& opti
                                    [](double v) { return v > 0 && v <= 1; }, "in (0, 1]");
     }
     if (c["delay"]) s.chebyshev_delay = r.integer(c["delay"], cp + ".delay", 1, 1000);
+  }
+  if (const YAML::Node a = node["anderson"]) {
+    const std::string ap = path + ".anderson";
+    r.map(a, ap, {"window"});
+    if (a["window"]) s.anderson_window = r.integer(a["window"], ap + ".window", 1, 50);
   }
 }
 

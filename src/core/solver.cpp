@@ -46,10 +46,15 @@ void SolverSettings::validate() const {
     throw std::invalid_argument("chebyshev delay = " + std::to_string(chebyshev_delay) +
                                 " must be >= 1");
   }
+  if (anderson_window < 1 || anderson_window > 50) {
+    throw std::invalid_argument("anderson window = " + std::to_string(anderson_window) +
+                                " must be in [1, 50]");
+  }
 }
 
 std::vector<std::string> solverNames() {
-  return {"explicit_euler", "verlet", "newton", "local_global", "chebyshev", "local_global_3n"};
+  return {"explicit_euler", "verlet",   "newton",
+          "local_global",   "chebyshev", "anderson", "local_global_3n"};
 }
 
 std::unique_ptr<Solver> makeSolver(const std::string& name) {
@@ -58,6 +63,7 @@ std::unique_ptr<Solver> makeSolver(const std::string& name) {
   if (name == "newton") return std::make_unique<NewtonSolver>();
   if (name == "local_global") return std::make_unique<LocalGlobalSolver>();
   if (name == "chebyshev") return std::make_unique<ChebyshevSolver>();
+  if (name == "anderson") return std::make_unique<AndersonSolver>();
   if (name == "local_global_3n") return std::make_unique<LocalGlobal3nSolver>();
   std::string list;
   for (const auto& n : solverNames()) list += (list.empty() ? "" : ", ") + n;

@@ -227,5 +227,48 @@ TEST(Chebyshev, NeverWorseThanPlainLocalGlobalAndMonotone) {
   }
 }
 
+TEST(Anderson, ConvergesToNewtonsSolution) {
+  AndersonSolver anderson;
+  EXPECT_LT(convergedErrorAgainstNewton(anderson, SwingingCloth()), 1e-8);
+}
+
+TEST(Anderson, AcceptedIteratesMonotoneAndNeverWorseThanPlainLocalGlobal) {
+  SwingingCloth c;
+  c.g.model.setFamilyStiffness(SpringFamily::kStructural, 5000.0);  // slow plain convergence
+  c.state.positions = 0.7 * c.state.positions;  // compressed springs: the safeguard has work
+  c.pins.moveTarget(0, c.state.positions.col(0));
+  AndersonSolver anderson;
+  LocalGlobalSolver plain;
+  std::vector<double> anderson_trace, plain_trace;
+  anderson.setObjectiveTrace(&anderson_trace);
+  plain.setObjectiveTrace(&plain_trace);
+  for (int iterations : {1, 2, 3, 5, 10, 20, 50, 100}) {
+    State a = c.state, b = c.state;
+    anderson.step(c.input(), test::convergedSettings(iterations, 0.0), a);
+    plain.step(c.input(), test::convergedSettings(iterations, 0.0), b);
+    EXPECT_LE(anderson_trace.back(), plain_trace.back() + 1e-12 * std::abs(plain_trace.back()))
+        << iterations << " iterations";
+    for (std::size_t k = 1; k < anderson_trace.size(); ++k) {
+      EXPECT_LE(anderson_trace[k], anderson_trace[k - 1] + 1e-12 * std::abs(anderson_trace[k - 1]))
+          << iterations << " iterations, iterate " << k;
+    }
+  }
+  EXPECT_GT(anderson.rejections(), 0);  // the safeguard was exercised
+}
+
+TEST(Anderson, WindowOfOneStillConvergesAndWindowIsValidated) {
+  AndersonSolver anderson;
+  SwingingCloth c;
+  State s = c.state;
+  SolverSettings settings = test::convergedSettings(100000, 1e-12);
+  settings.anderson_window = 1;
+  EXPECT_TRUE(anderson.step(c.input(), settings, s).converged);
+  settings.anderson_window = 0;
+  EXPECT_THROW(settings.validate(), std::invalid_argument);
+  settings.anderson_window = 51;
+  EXPECT_THROW(settings.validate(), std::invalid_argument);
+  EXPECT_STREQ(makeSolver("anderson")->name(), "anderson");
+}
+
 }  // namespace
 }  // namespace cloth_sim

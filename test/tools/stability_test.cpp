@@ -34,7 +34,8 @@ TEST_P(ImplicitSolverSweep, StableInEveryCell) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Implicit, ImplicitSolverSweep,
-                         ::testing::Values("local_global", "chebyshev", "newton", "local_global_3n"));
+                         ::testing::Values("local_global", "chebyshev", "anderson", "newton",
+                                           "local_global_3n"));
 
 TEST(StabilitySweep, DetectsTheExplicitInstability) {
   // The sweep must be able to say "unstable": explicit Euler on stiff cloth at a large step.

@@ -29,8 +29,18 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"hanging", "drape"}));
   speed_cmd->add_option("--grids", speed.grids, "grid sizes (rows = cols)")->delimiter(',')
       ->capture_default_str()->check(CLI::Range(4, 400));
-  speed_cmd->add_option("--solvers", speed.solvers, "solver labels (default: all)")->delimiter(',')
-      ->check(CLI::IsMember(solverLabels()));
+  speed_cmd->add_option("--solvers", speed.solvers,
+                        "solver labels (default: all); '@p' after a label sets chebyshev's rho or "
+                        "anderson's window")
+      ->delimiter(',')
+      ->check(CLI::Validator(
+          [](std::string& label) {
+            const std::string base = label.substr(0, label.find('@'));
+            for (const std::string& known : solverLabels())
+              if (known == base) return std::string();
+            return "unknown solver label '" + base + "'";
+          },
+          "LABEL[@param]"));
   speed_cmd->add_option("--iterations", speed.iterations, "iteration counts")->delimiter(',')
       ->capture_default_str()->check(CLI::Range(1, 100000));
   speed_cmd->add_option("--duration", speed.duration, "simulated s per timed run")

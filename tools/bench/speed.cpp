@@ -22,14 +22,28 @@ struct Config {
   LinearSolver linear = LinearSolver::kFused;
   bool warm = false;      ///< SolverSettings::warm_start
   bool iterative = true;  ///< false: explicit, one row at "iterations" 1
+  double param = 0.0;     ///< after '@': chebyshev_rho (chebyshev) or anderson_window; 0 = default
 };
 
-/// "solver[:linear][+warm]"
+/// Settings @p s with the '@' parameter of @p c applied.
+SolverSettings withParam(SolverSettings s, const Config& c) {
+  if (c.param <= 0.0) return s;
+  if (c.solver == "chebyshev") s.chebyshev_rho = c.param;
+  if (c.solver == "anderson") s.anderson_window = static_cast<int>(c.param);
+  return s;
+}
+
+/// "solver[:linear][+warm][@param]", param: chebyshev's rho or anderson's window.
 Config configOf(const std::string& label) {
   Config c{label, label};
-  const auto plus = label.find('+');
+  const auto at = c.solver.find('@');
+  if (at != std::string::npos) {
+    c.param = std::stod(c.solver.substr(at + 1));
+    c.solver = c.solver.substr(0, at);
+  }
+  const auto plus = c.solver.find('+');
   if (plus != std::string::npos) {
-    c.warm = label.substr(plus + 1) == "warm";
+    c.warm = c.solver.substr(plus + 1) == "warm";
     c.solver = label.substr(0, plus);
   }
   const auto colon = c.solver.find(':');
@@ -88,6 +102,7 @@ void measureErrors(const Config& c, int iterations, const Model& model, const Pi
   settings.max_iterations = iterations;
   settings.linear_solver = c.linear;
   settings.warm_start = c.warm;
+  settings = withParam(settings, c);
   const SolverInput input{model, pins, 1};
   for (const Sample& s : samples) {
     // The step before the sample first, as in a run: it factors and, with warm start, leaves
@@ -128,15 +143,19 @@ std::map<int, std::pair<std::vector<double>, std::vector<double>>> newtonErrors(
   return out;
 }
 
-/// Per-iteration errors of local/global or chebyshev, up to trace_iterations or both < 1e-4.
+/// Per-iteration errors of local/global, chebyshev or anderson, up to trace_iterations or both
+/// < 1e-4.
 void traceErrors(const std::string& case_name, const Config& c, const Model& model,
                  const PinSet& pins, const std::vector<Sample>& samples,
                  int cap, std::ofstream& out) {
-  auto solver = std::unique_ptr<LocalGlobalSolver>(
-      c.solver == "chebyshev" ? new ChebyshevSolver : new LocalGlobalSolver);
+  std::unique_ptr<LocalGlobalSolver> solver;
+  if (c.solver == "chebyshev") solver = std::make_unique<ChebyshevSolver>();
+  else if (c.solver == "anderson") solver = std::make_unique<AndersonSolver>();
+  else solver = std::make_unique<LocalGlobalSolver>();
   SolverSettings settings;
   settings.linear_solver = c.linear;
   settings.warm_start = c.warm;
+  settings = withParam(settings, c);
   const SolverInput input{model, pins, 1};
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const Sample& s = samples[i];
@@ -179,8 +198,9 @@ void writeRow(std::ofstream& out, const BenchCase& bc, const Model& model, const
 }  // namespace
 
 std::vector<std::string> solverLabels() {
-  return {"local_global", "local_global:cholmod", "local_global:eigen", "local_global_3n",
-          "chebyshev", "local_global+warm", "chebyshev+warm", "newton", "explicit_euler", "verlet"};
+  return {"local_global",   "local_global:cholmod", "local_global:eigen", "local_global_3n",
+          "chebyshev",      "anderson",             "local_global+warm",  "chebyshev+warm",
+          "anderson+warm",  "newton",               "explicit_euler",     "verlet"};
 }
 
 void runSpeed(const SpeedOptions& o) {
@@ -248,8 +268,9 @@ void runSpeed(const SpeedOptions& o) {
                                                : decltype(newtonErrors(counts, model, pins, samples)){};
       for (int iterations : counts) {
         const double t0 = now();
-        const TimedRun run =
-            timeRun(withSolver(bc.config, c.solver, iterations, c.linear, c.warm), o);
+        SceneConfig timed = withSolver(bc.config, c.solver, iterations, c.linear, c.warm);
+        timed.options.settings = withParam(timed.options.settings, c);
+        const TimedRun run = timeRun(timed, o);
         const bool is_newton = c.solver == "newton";
         std::vector<double> e_g = is_newton ? newton.at(iterations).first : std::vector<double>();
         std::vector<double> e_x = is_newton ? newton.at(iterations).second : std::vector<double>();
@@ -259,7 +280,7 @@ void runSpeed(const SpeedOptions& o) {
                      "(%.1f s)\n", bc.name.c_str(), label.c_str(), iterations, median(run.wall_ms),
                      median(e_g), median(e_x), now() - t0);
       }
-      if ((c.solver == "local_global" || c.solver == "chebyshev") &&
+      if ((c.solver == "local_global" || c.solver == "chebyshev" || c.solver == "anderson") &&
           c.linear == LinearSolver::kFused) {
         traceErrors(bc.name, c, model, pins, samples, o.trace_iterations, traces);
       }

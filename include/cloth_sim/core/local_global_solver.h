@@ -138,4 +138,41 @@ class ChebyshevSolver final : public LocalGlobalSolver {
   bool rho_set_ = false;
 };
 
+/// Local/global with Anderson acceleration and an energy safeguard (Peng, Deng, Zhang, Liu 2018,
+/// "Anderson Acceleration for Geometry Optimization and Physics Simulation", Algorithm 2).
+/// One local/global iteration is a fixed-point map G; with residuals F_j = G(x_j) - x_j and
+/// the last m differences dF_j = F_{j+1} - F_j, dG_j = G(x_{j+1}) - G(x_j) (m =
+/// SolverSettings::anderson_window):
+///   theta = argmin |F_k - dF theta|_2,   x_{k+1} = G(x_k) - dG theta.
+/// Safeguard: g(x_{k+1}) comes with the next iteration (the local step computes it); when it
+/// is above g(x_k), x_{k+1} is replaced by the plain iterate G(x_k) (g(G(x_k)) <= g(x_k)) and
+/// the history is cleared, at the cost of one more solve. So g of the accepted iterates never
+/// increases, and the returned iterate is never worse than the plain iterate it came from.
+/// Per iteration it adds O(m n) vector work (n = 4 N doubles) to the local/global iteration.
+class AndersonSolver final : public LocalGlobalSolver {
+ public:
+  const char* name() const override { return "anderson"; }
+  SolveResult step(const SolverInput& input, const SolverSettings& settings,
+                   State& state) override;
+  /// Iterates rejected by the safeguard since construction (diagnostics, tests).
+  int rejections() const { return rejections_; }
+
+ private:
+  /// Clears the history (after a rejection, and at the start of a step).
+  void resetHistory();
+  /// Appends dF = f - f_last, dG = g_map - g_map_last to the history (dropping the oldest
+  /// beyond @p window) and keeps f, g_map as the last residual and map value.
+  void pushHistory(const NodeBuffer& f, const NodeBuffer& g_map, int window);
+  /// x = G(x_k) - dG theta with theta the least-squares coefficients for the residual @p f.
+  void extrapolate(const NodeBuffer& f, const NodeBuffer& g_map, NodeBuffer& x) const;
+
+  Eigen::MatrixXd d_f_, d_g_;  ///< columns: the last differences of F and G (a ring)
+  Eigen::MatrixXd gram_;       ///< dF^T dF of the columns in use
+  int history_ = 0;            ///< columns in use
+  int next_column_ = 0;        ///< the ring's next column to overwrite
+  NodeBuffer f_last_, g_last_;  ///< F and G of the previous accepted iterate
+  bool has_last_ = false;
+  int rejections_ = 0;
+};
+
 }  // namespace cloth_sim

@@ -42,6 +42,9 @@ struct SolverSettings {
   double chebyshev_gamma = 1.0;
   /// chebyshev: plain local/global iterations before acceleration starts (Wang's S), >= 1.
   int chebyshev_delay = 3;
+  /// anderson: number m of past iterates whose differences form the least-squares model
+  /// (Peng et al. 2018 use 5-10), in [1, 50].
+  int anderson_window = 5;
   /// local_global, chebyshev: start each step from y + (x_n - y_{n-1}), the previous step's
   /// correction, instead of y, whenever that start has the lower objective g. Motion is
   /// coherent from step to step, so the correction (what the springs did to the inertial
