@@ -353,7 +353,7 @@ void AndersonSolver::extrapolate(const NodeBuffer& f, const NodeBuffer& g_map,
   gram.diagonal().array() += 1e-12 * std::max(gram.diagonal().maxCoeff(), 1e-300);
   const Eigen::VectorXd theta = gram.ldlt().solve(rhs);
   if (!theta.allFinite()) return;
-  view(x) -= d_g_.leftCols(history_) * theta;
+  view(x).noalias() -= d_g_.leftCols(history_) * theta;  // noalias: no n-sized temporary
 }
 
 SolveResult AndersonSolver::step(const SolverInput& in, const SolverSettings& settings,
