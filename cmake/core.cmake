@@ -15,6 +15,7 @@ add_library(cloth_sim_core
   src/core/explicit_solvers.cpp
   src/core/newton_solver.cpp
   src/core/local_global_solver.cpp
+  src/core/lbfgs_solver.cpp
   src/core/local_global_3n_solver.cpp
   src/core/solver.cpp
   src/core/colliders.cpp

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "cloth_sim/core/contact_forces.h"
@@ -39,6 +40,7 @@ void LocalGlobalSolver::factorize(const SolverInput& in, LinearSolver backend) {
   correction_.clear();  // node order and system changed
   if (nf > 0) ++factorizations_;
   estimateCompliance(a, dofs, model.particleCount());
+  buildNodeMatrix(a);
 
   // Node order: free particles in the system's order, then the hard-pinned ones.
   free_count_ = nf;
@@ -132,6 +134,56 @@ void LocalGlobalSolver::addContactForces(const NodeBuffer& x, NodeBuffer& rhs) {
   contacts_->addForces(contact_rhs_);
   for (int k = 0; k < free_count_; ++k)
     for (int c = 0; c < 3; ++c) rhs[kNodeStride * k + c] += contact_rhs_(c, node_particle_[k]);
+}
+
+void LocalGlobalSolver::buildNodeMatrix(const Eigen::SparseMatrix<double>& a) {
+  // Row k of the node matrix is free index order()[k]; A is symmetric, so that row is column
+  // order()[k] of the column-major a.
+  const std::vector<int>& order = system_.order();
+  const int nf = static_cast<int>(order.size());
+  std::vector<int> node_of_free(nf);
+  for (int k = 0; k < nf; ++k) node_of_free[order[k]] = k;
+  NodeMatrix& m = node_matrix_;
+  m.row_begin.assign(1, 0);
+  m.column.clear();
+  m.value.clear();
+  std::vector<std::pair<int, double>> row;
+  for (int k = 0; k < nf; ++k) {
+    row.clear();
+    for (Eigen::SparseMatrix<double>::InnerIterator it(a, order[k]); it; ++it)
+      row.emplace_back(node_of_free[it.row()], it.value());
+    std::sort(row.begin(), row.end());  // walk x forwards
+    for (const auto& [column, value] : row) {
+      m.column.push_back(column);
+      m.value.push_back(value);
+    }
+    m.row_begin.push_back(static_cast<int>(m.column.size()));
+  }
+}
+
+double LocalGlobalSolver::objectiveAndGradient(const NodeBuffer& x, NodeBuffer& gradient) {
+  const double h2 = h_ * h_;
+  rhs_work_ = rhs_constant_;
+  const double spring_energy = localStep3(springs_, x.data(), rhs_work_.data());
+  gradient.assign(x.size(), 0.0);
+  const NodeMatrix& m = node_matrix_;
+  for (int k = 0; k < free_count_; ++k) {
+    double ax = 0.0, ay = 0.0, az = 0.0;
+    for (int e = m.row_begin[k]; e < m.row_begin[k + 1]; ++e) {
+      const double* xj = &x[kNodeStride * m.column[e]];
+      ax += m.value[e] * xj[0];
+      ay += m.value[e] * xj[1];
+      az += m.value[e] * xj[2];
+    }
+    double* gk = &gradient[kNodeStride * k];
+    const double* bk = &rhs_work_[kNodeStride * k];
+    gk[0] = ax - bk[0];
+    gk[1] = ay - bk[1];
+    gk[2] = az - bk[2];
+  }
+  return inertiaAndGravity(x.data(), inertial_.data(), node_mass_.data(),
+                           static_cast<int>(node_mass_.size()), gravity_, h2) +
+         h2 * (spring_energy + constant_energy_ + pinEnergy(x));
 }
 
 double LocalGlobalSolver::pinEnergy(const NodeBuffer& x) const {

@@ -128,7 +128,7 @@ const auto kNonNegative = [](double v) { return v >= 0.0; };
 
 void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& options) {
   const std::string path = "solver";
-  r.map(node, path, {"name", "iterations", "tolerance", "chebyshev", "anderson"});
+  r.map(node, path, {"name", "iterations", "tolerance", "chebyshev", "anderson", "lbfgs"});
   if (node["name"]) {
     options.solver = r.text(node["name"], path + ".name");
     try {
@@ -159,6 +159,11 @@ void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& opti
     const std::string ap = path + ".anderson";
     r.map(a, ap, {"window"});
     if (a["window"]) s.anderson_window = r.integer(a["window"], ap + ".window", 1, 50);
+  }
+  if (const YAML::Node l = node["lbfgs"]) {
+    const std::string lp = path + ".lbfgs";
+    r.map(l, lp, {"window"});
+    if (l["window"]) s.lbfgs_window = r.integer(l["window"], lp + ".window", 1, 50);
   }
 }
 

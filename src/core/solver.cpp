@@ -5,6 +5,7 @@
 
 #include "cloth_sim/core/explicit_solvers.h"
 #include "cloth_sim/core/local_global_3n_solver.h"
+#include "cloth_sim/core/lbfgs_solver.h"
 #include "cloth_sim/core/local_global_solver.h"
 #include "cloth_sim/core/newton_solver.h"
 
@@ -50,11 +51,15 @@ void SolverSettings::validate() const {
     throw std::invalid_argument("anderson window = " + std::to_string(anderson_window) +
                                 " must be in [1, 50]");
   }
+  if (lbfgs_window < 1 || lbfgs_window > 50) {
+    throw std::invalid_argument("lbfgs window = " + std::to_string(lbfgs_window) +
+                                " must be in [1, 50]");
+  }
 }
 
 std::vector<std::string> solverNames() {
   return {"explicit_euler", "verlet",   "newton",
-          "local_global",   "chebyshev", "anderson", "local_global_3n"};
+          "local_global",   "chebyshev", "anderson", "lbfgs", "local_global_3n"};
 }
 
 std::unique_ptr<Solver> makeSolver(const std::string& name) {
@@ -64,6 +69,7 @@ std::unique_ptr<Solver> makeSolver(const std::string& name) {
   if (name == "local_global") return std::make_unique<LocalGlobalSolver>();
   if (name == "chebyshev") return std::make_unique<ChebyshevSolver>();
   if (name == "anderson") return std::make_unique<AndersonSolver>();
+  if (name == "lbfgs") return std::make_unique<LbfgsSolver>();
   if (name == "local_global_3n") return std::make_unique<LocalGlobal3nSolver>();
   std::string list;
   for (const auto& n : solverNames()) list += (list.empty() ? "" : ", ") + n;

@@ -1,9 +1,14 @@
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
+#include <stdexcept>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "cloth_sim/core/implicit_euler.h"
+#include "cloth_sim/core/lbfgs_solver.h"
 #include "cloth_sim/core/local_global_solver.h"
 #include "cloth_sim/core/newton_solver.h"
 #include "test_util.h"
@@ -268,6 +273,121 @@ TEST(Anderson, WindowOfOneStillConvergesAndWindowIsValidated) {
   settings.anderson_window = 51;
   EXPECT_THROW(settings.validate(), std::invalid_argument);
   EXPECT_STREQ(makeSolver("anderson")->name(), "anderson");
+}
+
+/// Exposes the protected objective and gradient of the local/global solvers.
+class GradientProbe : public LocalGlobalSolver {
+ public:
+  using LocalGlobalSolver::beginStep;
+  using LocalGlobalSolver::freeNodeCount;
+  using LocalGlobalSolver::inertial;
+  using LocalGlobalSolver::objectiveAndGradient;
+  using LocalGlobalSolver::objectiveAt;
+};
+
+TEST(Lbfgs, GradientMatchesFiniteDifferencesOfTheObjective) {
+  SwingingCloth c;  // a hard and a soft pin, springs stretched and compressed
+  GradientProbe probe;
+  probe.beginStep(c.input(), SolverSettings{}, c.state);
+  NodeBuffer x = probe.inertial();
+  std::srand(3);
+  for (int k = 0; k < probe.freeNodeCount(); ++k)
+    for (int d = 0; d < 3; ++d) x[kNodeStride * k + d] += 0.02 * (std::rand() / double(RAND_MAX) - 0.5);
+  NodeBuffer gradient;
+  const double g = probe.objectiveAndGradient(x, gradient);
+  EXPECT_NEAR(g, probe.objectiveAt(x), 1e-12 * std::abs(g));
+  ASSERT_EQ(gradient.size(), x.size());
+  double worst = 0.0, scale = 0.0;
+  const double eps = 1e-6;
+  for (int k = 0; k < probe.freeNodeCount(); ++k) {
+    for (int d = 0; d < 3; ++d) {
+      NodeBuffer plus = x, minus = x;
+      plus[kNodeStride * k + d] += eps;
+      minus[kNodeStride * k + d] -= eps;
+      const double fd = (probe.objectiveAt(plus) - probe.objectiveAt(minus)) / (2 * eps);
+      worst = std::max(worst, std::abs(fd - gradient[kNodeStride * k + d]));
+      scale = std::max(scale, std::abs(fd));
+    }
+    EXPECT_EQ(gradient[kNodeStride * k + 3], 0.0);
+  }
+  EXPECT_GT(scale, 0.0);
+  EXPECT_LT(worst, 1e-6 * scale);
+  for (std::size_t i = kNodeStride * probe.freeNodeCount(); i < gradient.size(); ++i)
+    EXPECT_EQ(gradient[i], 0.0);  // hard-pinned rows
+}
+
+TEST(Lbfgs, ConvergesToNewtonsSolution) {
+  LbfgsSolver lbfgs;
+  EXPECT_LT(convergedErrorAgainstNewton(lbfgs, SwingingCloth()), 1e-8);
+}
+
+TEST(Lbfgs, FirstIterationIsTheLocalGlobalIterate) {
+  SwingingCloth c;
+  LbfgsSolver lbfgs;
+  LocalGlobalSolver plain;
+  State a = c.state, b = c.state;
+  lbfgs.step(c.input(), test::convergedSettings(1, 0.0), a);
+  plain.step(c.input(), test::convergedSettings(1, 0.0), b);
+  EXPECT_LT((a.positions - b.positions).norm(), 1e-12 * b.positions.norm());
+}
+
+TEST(Lbfgs, AcceptedIteratesMonotoneAndNeverWorseThanPlainLocalGlobal) {
+  SwingingCloth c;  // anderson's hard case
+  c.g.model.setFamilyStiffness(SpringFamily::kStructural, 5000.0);  // slow plain convergence
+  c.state.positions = 0.7 * c.state.positions;  // compressed springs: non-convex g
+  c.pins.moveTarget(0, c.state.positions.col(0));
+  LbfgsSolver lbfgs;
+  LocalGlobalSolver plain;
+  std::vector<double> lbfgs_trace, plain_trace;
+  lbfgs.setObjectiveTrace(&lbfgs_trace);
+  plain.setObjectiveTrace(&plain_trace);
+  for (int iterations = 1; iterations <= 100; ++iterations) {
+    State a = c.state, b = c.state;
+    lbfgs.step(c.input(), test::convergedSettings(iterations, 0.0), a);
+    plain.step(c.input(), test::convergedSettings(iterations, 0.0), b);
+    EXPECT_LE(lbfgs_trace.back(), plain_trace.back() + 1e-12 * std::abs(plain_trace.back()))
+        << iterations << " iterations";
+    for (std::size_t k = 1; k < lbfgs_trace.size(); ++k) {
+      EXPECT_LE(lbfgs_trace[k], lbfgs_trace[k - 1] + 1e-12 * std::abs(lbfgs_trace[k - 1]))
+          << iterations << " iterations, iterate " << k;
+    }
+  }
+}
+
+TEST(Lbfgs, ConservesLinearMomentum) {
+  LbfgsSolver solver;
+  EXPECT_LT(test::momentumDrift(solver, test::convergedSettings(3, 0.0), 50), 1e-9);
+  EXPECT_LT(test::momentumDrift(solver, test::convergedSettings(10, 0.0), 50), 1e-9);
+}
+
+TEST(Lbfgs, ObserverSeesTheResultAndWindowIsValidated) {
+  SwingingCloth c;
+  LbfgsSolver lbfgs;
+  int last_k = 0;
+  Points last;
+  lbfgs.setIterateObserver([&](int k, const Points& x) {
+    EXPECT_GT(k, last_k);
+    last_k = k;
+    last = x;
+    return true;
+  });
+  State s = c.state;
+  const SolveResult r = lbfgs.step(c.input(), test::convergedSettings(12, 0.0), s);
+  EXPECT_EQ(r.iterations, 12);
+  EXPECT_EQ(last_k, 12);
+  EXPECT_EQ(last, s.positions);
+  EXPECT_FALSE(r.used_contacts);
+
+  lbfgs.setIterateObserver({});
+  SolverSettings settings = test::convergedSettings(100000, 1e-12);
+  settings.lbfgs_window = 1;
+  s = c.state;
+  EXPECT_TRUE(lbfgs.step(c.input(), settings, s).converged);
+  settings.lbfgs_window = 0;
+  EXPECT_THROW(settings.validate(), std::invalid_argument);
+  settings.lbfgs_window = 51;
+  EXPECT_THROW(settings.validate(), std::invalid_argument);
+  EXPECT_STREQ(makeSolver("lbfgs")->name(), "lbfgs");
 }
 
 }  // namespace

@@ -34,7 +34,7 @@ TEST_P(ImplicitSolverSweep, StableInEveryCell) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Implicit, ImplicitSolverSweep,
-                         ::testing::Values("local_global", "chebyshev", "anderson", "newton",
+                         ::testing::Values("local_global", "chebyshev", "anderson", "lbfgs", "newton",
                                            "local_global_3n"));
 
 TEST(StabilitySweep, DetectsTheExplicitInstability) {

@@ -30,8 +30,8 @@ int main(int argc, char** argv) {
   speed_cmd->add_option("--grids", speed.grids, "grid sizes (rows = cols)")->delimiter(',')
       ->capture_default_str()->check(CLI::Range(4, 400));
   speed_cmd->add_option("--solvers", speed.solvers,
-                        "solver labels (default: all); '@p' after a label sets chebyshev's rho or "
-                        "anderson's window")
+                        "solver labels (default: all); '@p' after a label sets chebyshev's rho, "
+                        "anderson's or lbfgs's window")
       ->delimiter(',')
       ->check(CLI::Validator(
           [](std::string& label) {

@@ -9,6 +9,7 @@
 
 #include "cases.h"
 #include "cloth_sim/core/implicit_euler.h"
+#include "cloth_sim/core/lbfgs_solver.h"
 #include "cloth_sim/core/local_global_solver.h"
 #include "cloth_sim/core/newton_solver.h"
 #include "reference.h"
@@ -22,7 +23,7 @@ struct Config {
   LinearSolver linear = LinearSolver::kFused;
   bool warm = false;      ///< SolverSettings::warm_start
   bool iterative = true;  ///< false: explicit, one row at "iterations" 1
-  double param = 0.0;     ///< after '@': chebyshev_rho (chebyshev) or anderson_window; 0 = default
+  double param = 0.0;     ///< after '@': chebyshev_rho, anderson_window or lbfgs_window; 0 = default
 };
 
 /// Settings @p s with the '@' parameter of @p c applied.
@@ -30,10 +31,11 @@ SolverSettings withParam(SolverSettings s, const Config& c) {
   if (c.param <= 0.0) return s;
   if (c.solver == "chebyshev") s.chebyshev_rho = c.param;
   if (c.solver == "anderson") s.anderson_window = static_cast<int>(c.param);
+  if (c.solver == "lbfgs") s.lbfgs_window = static_cast<int>(c.param);
   return s;
 }
 
-/// "solver[:linear][+warm][@param]", param: chebyshev's rho or anderson's window.
+/// "solver[:linear][+warm][@param]", param: chebyshev's rho, anderson's or lbfgs's window.
 Config configOf(const std::string& label) {
   Config c{label, label};
   const auto at = c.solver.find('@');
@@ -143,7 +145,7 @@ std::map<int, std::pair<std::vector<double>, std::vector<double>>> newtonErrors(
   return out;
 }
 
-/// Per-iteration errors of local/global, chebyshev or anderson, up to trace_iterations or both
+/// Per-iteration errors of local/global, chebyshev, anderson or lbfgs, up to trace_iterations or both
 /// < 1e-4.
 void traceErrors(const std::string& case_name, const Config& c, const Model& model,
                  const PinSet& pins, const std::vector<Sample>& samples,
@@ -151,6 +153,7 @@ void traceErrors(const std::string& case_name, const Config& c, const Model& mod
   std::unique_ptr<LocalGlobalSolver> solver;
   if (c.solver == "chebyshev") solver = std::make_unique<ChebyshevSolver>();
   else if (c.solver == "anderson") solver = std::make_unique<AndersonSolver>();
+  else if (c.solver == "lbfgs") solver = std::make_unique<LbfgsSolver>();
   else solver = std::make_unique<LocalGlobalSolver>();
   SolverSettings settings;
   settings.linear_solver = c.linear;
@@ -200,7 +203,8 @@ void writeRow(std::ofstream& out, const BenchCase& bc, const Model& model, const
 std::vector<std::string> solverLabels() {
   return {"local_global",   "local_global:cholmod", "local_global:eigen", "local_global_3n",
           "chebyshev",      "anderson",             "local_global+warm",  "chebyshev+warm",
-          "anderson+warm",  "newton",               "explicit_euler",     "verlet"};
+          "anderson+warm",  "lbfgs",                "lbfgs+warm",         "newton",
+          "explicit_euler", "verlet"};
 }
 
 void runSpeed(const SpeedOptions& o) {
@@ -280,7 +284,8 @@ void runSpeed(const SpeedOptions& o) {
                      "(%.1f s)\n", bc.name.c_str(), label.c_str(), iterations, median(run.wall_ms),
                      median(e_g), median(e_x), now() - t0);
       }
-      if ((c.solver == "local_global" || c.solver == "chebyshev" || c.solver == "anderson") &&
+      if ((c.solver == "local_global" || c.solver == "chebyshev" || c.solver == "anderson" ||
+           c.solver == "lbfgs") &&
           c.linear == LinearSolver::kFused) {
         traceErrors(bc.name, c, model, pins, samples, o.trace_iterations, traces);
       }

@@ -19,15 +19,15 @@ struct SpeedOptions {
   int samples = 4;         ///< states along the trajectory where the error is measured
   double budget = 6.0;     ///< s of wall time after which a timed run stops (>= min_steps)
   int min_steps = 4;
-  /// cap of the per-iteration error traces (local/global, chebyshev, anderson)
+  /// cap of the per-iteration error traces (local/global, chebyshev, anderson, lbfgs)
   int trace_iterations = 3000;
 };
 
 /// The solver configurations the benchmark knows: "local_global" (fused kernels),
 /// "local_global:cholmod", "local_global:eigen", "local_global_3n", "chebyshev", "anderson",
-/// "local_global+warm", "chebyshev+warm", "anderson+warm" (SolverSettings::warm_start),
-/// "newton", "explicit_euler", "verlet". "@p" after a label sets chebyshev's rho or anderson's
-/// window (SolverSettings).
+/// "lbfgs", "local_global+warm", "chebyshev+warm", "anderson+warm", "lbfgs+warm"
+/// (SolverSettings::warm_start), "newton", "explicit_euler", "verlet". "@p" after a label sets
+/// chebyshev's rho or anderson's or lbfgs's window (SolverSettings).
 std::vector<std::string> solverLabels();
 
 /// Runs the benchmark and writes speed.csv, traces.csv, references.csv and cases.csv.

@@ -77,6 +77,18 @@ class LocalGlobalSolver : public Solver {
   /// Whether this step solves contact forces (SolverInput::contacts was set).
   bool solvesContacts() const { return contacts_ != nullptr; }
 
+  /// Free nodes: they come first in the node order, hard-pinned nodes after them.
+  int freeNodeCount() const { return free_count_; }
+  /// g(x) and its gradient over the free nodes (METHOD.md; Liu, Bouaziz, Kavan 2017, eq. 9):
+  ///   grad g(x) = A x - b(x),  A = M + h^2 L (+ h^2 k on soft pins),
+  ///   b(x) = M y + h^2 (J d(x) + m g + k_pin t + k x_boundary),
+  /// with d(x) the local step's spring directions, so b is the global step's right-hand side.
+  /// One spring pass and one sparse product with A; no solve. @p gradient gets the size of
+  /// @p x, with zeros in the padding and in the rows of hard-pinned nodes. Contacts are ignored.
+  double objectiveAndGradient(const NodeBuffer& x, NodeBuffer& gradient);
+  /// v <- A^-1 v over the free nodes (the global step's factor; other rows untouched).
+  void solveGlobal(NodeBuffer& v) { system_.solveInPlace(v.data()); }
+
  private:
   void factorize(const SolverInput& input, LinearSolver backend);
   double pinEnergy(const NodeBuffer& x) const;
@@ -84,6 +96,14 @@ class LocalGlobalSolver : public Solver {
   void estimateCompliance(const Eigen::SparseMatrix<double>& a, const DofMap& dofs, int n);
   /// Contact forces of iterate @p x added to the right-hand side @p rhs (node order).
   void addContactForces(const NodeBuffer& x, NodeBuffer& rhs);
+  /// Keeps @p a (free-index order) as node_matrix_: rows and columns in node order.
+  void buildNodeMatrix(const Eigen::SparseMatrix<double>& a);
+
+  /// A in node order over the free nodes, compressed rows (for objectiveAndGradient).
+  struct NodeMatrix {
+    std::vector<int> row_begin, column;
+    std::vector<double> value;
+  };
 
   std::uint64_t prepared_revision_ = 0;
   bool prepared_ = false;
@@ -106,6 +126,8 @@ class LocalGlobalSolver : public Solver {
   ContactForces* contacts_ = nullptr;  ///< this step's contact forces, or nullptr
   Eigen::VectorXd compliance_;         ///< per particle (1/kg), see estimateCompliance
   Points contact_x_, contact_rhs_;     ///< particle-order work buffers of the contacts
+  NodeMatrix node_matrix_;             ///< A in node order, built with the factor
+  NodeBuffer rhs_work_;                ///< b(x) of objectiveAndGradient
   mutable Points observed_;
   IterateObserver observer_;
   std::vector<double>* trace_ = nullptr;

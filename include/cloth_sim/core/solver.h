@@ -45,7 +45,9 @@ struct SolverSettings {
   /// anderson: number m of past iterates whose differences form the least-squares model
   /// (Peng et al. 2018 use 5-10), in [1, 50].
   int anderson_window = 5;
-  /// local_global, chebyshev: start each step from y + (x_n - y_{n-1}), the previous step's
+  /// lbfgs: number m of (s, t) pairs kept by L-BFGS (Liu, Bouaziz, Kavan 2017 use 5), in [1, 50].
+  int lbfgs_window = 5;
+  /// local_global, chebyshev, anderson, lbfgs: start each step from y + (x_n - y_{n-1}), the previous step's
   /// correction, instead of y, whenever that start has the lower objective g. Motion is
   /// coherent from step to step, so the correction (what the springs did to the inertial
   /// prediction) changes little: fewer iterations for the same error.
@@ -87,7 +89,7 @@ class Solver {
  public:
   virtual ~Solver() = default;
   /// Name used to select it: "explicit_euler", "verlet", "newton", "local_global", "chebyshev",
-  /// "local_global_3n".
+  /// "anderson", "lbfgs", "local_global_3n".
   virtual const char* name() const = 0;
   /// Advances @p state by one step. May leave non-finite values on blow-up: the caller checks.
   virtual SolveResult step(const SolverInput& input, const SolverSettings& settings,
