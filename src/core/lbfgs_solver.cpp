@@ -21,15 +21,6 @@ Eigen::Map<Eigen::VectorXd> head(NodeBuffer& v, Eigen::Index n) {
 Eigen::Map<const Eigen::VectorXd> head(const NodeBuffer& v, Eigen::Index n) {
   return Eigen::Map<const Eigen::VectorXd>(v.data(), n);
 }
-Eigen::Map<const Eigen::VectorXd> all(const NodeBuffer& v) {
-  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
-}
-
-/// |next - current| / |next - start|: the convergence measure of SolveResult.
-double relativeChange(const NodeBuffer& next, const NodeBuffer& current, const NodeBuffer& start) {
-  const double moved = (all(next) - all(start)).norm();
-  return moved > 0.0 ? (all(next) - all(current)).norm() / moved : 0.0;
-}
 
 }  // namespace
 

@@ -19,13 +19,12 @@ Eigen::Map<const Eigen::VectorXd> view(const NodeBuffer& v) {
   return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
 }
 
-/// |next - current| / |next - start|: the convergence measure of SolveResult.
+}  // namespace
+
 double relativeChange(const NodeBuffer& next, const NodeBuffer& current, const NodeBuffer& start) {
   const double moved = (view(next) - view(start)).norm();
   return moved > 0.0 ? (view(next) - view(current)).norm() / moved : 0.0;
 }
-
-}  // namespace
 
 void LocalGlobalSolver::factorize(const SolverInput& in, LinearSolver backend) {
   const Model& model = in.model;

@@ -133,6 +133,10 @@ class LocalGlobalSolver : public Solver {
   std::vector<double>* trace_ = nullptr;
 };
 
+/// The convergence measure of SolveResult for the local/global family:
+/// |next - current| / |next - start| over whole node buffers (0 when next == start).
+double relativeChange(const NodeBuffer& next, const NodeBuffer& current, const NodeBuffer& start);
+
 /// An upper bound on the spectral radius of local/global near a solution (springs at or above
 /// their rest length): mu / (1 + mu) with mu = h^2 max_i 2 d_i / m_i, d_i the summed stiffness
 /// of particle i's springs (N/m), m_i its mass (kg). E.g. 0.9998 for the 32 x 32 hanging cloth.
