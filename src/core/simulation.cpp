@@ -79,7 +79,8 @@ StepReport Simulation::step() {
   report.convergence = solved.convergence;
   report.converged = solved.converged;
   if (!colliders_.empty()) {
-    contacts_.finish(colliders_);
+    // Only a solver that solved the contacts this step has fresh ball positions to hand over.
+    if (solved.used_contacts) contacts_.finish(colliders_);
     report.contacts =
         resolveCollisions(colliders_, h, model_.mass, movable_, before.positions, state_.positions,
                           state_.velocities, solved.used_contacts);

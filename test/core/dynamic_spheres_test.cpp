@@ -84,6 +84,26 @@ TEST(DynamicSpheres, ThrownSphereBouncesBackFromAPinnedSheet) {
   EXPECT_GT(rebound_height - lowest, 0.04);   // ...and it rose above the bottom of the well
 }
 
+TEST(DynamicSpheres, ABallKeepsFallingAfterASwitchToASolverWithoutContactForces) {
+  // Newton does not solve contact forces: after a switch from local/global, the ball must fall
+  // freely, not be put back where local/global's last step left it.
+  Simulation sim = pinnedSheet(9, 1.0, 300.0, "local_global", SolverSettings{}, 0.0);
+  sim.addSphere(heavyBall(0.1, 0.05, Vec3(0.0, 0.0, 2.0), Vec3::Zero()));
+  for (int k = 0; k < 5; ++k) ASSERT_EQ(sim.step().status, StepStatus::kOk);
+  sim.setSolver("newton");
+  const double z0 = sim.colliders().spheres()[0].center.z();
+  const double v0 = sim.colliders().spheres()[0].velocity.z();
+  const int steps = 10;
+  for (int k = 0; k < steps; ++k) ASSERT_EQ(sim.step().status, StepStatus::kOk);
+  const double h = sim.model().time_step;
+  // Semi-implicit Euler free fall (no drag: damping 0), far above the sheet.
+  const double v = v0 - 9.81 * h * steps;
+  double z = z0;
+  for (int k = 1; k <= steps; ++k) z += h * (v0 - 9.81 * h * k);
+  EXPECT_NEAR(sim.colliders().spheres()[0].velocity.z(), v, 1e-9);
+  EXPECT_NEAR(sim.colliders().spheres()[0].center.z(), z, 1e-9);
+}
+
 TEST(DynamicSpheres, FastSphereDoesNotTunnelThroughTheSheet) {
   // 20 m/s: 33 cm per step at 60 Hz, more than the ball's diameter. Contacts are found along
   // the ball's path relative to the cloth (continuous detection, in the solve and after it);
