@@ -87,7 +87,6 @@ bool CholmodFactor::compute(const Eigen::SparseMatrix<double>& a) {
   return factorize(a);
 }
 
-bool CholmodFactor::analyzed() const { return impl_->factor != nullptr; }
 
 void CholmodFactor::solveInPlace(double* b, int columns) {
   if (!impl_->ok) throw std::logic_error("CholmodFactor::solveInPlace without a valid factor");

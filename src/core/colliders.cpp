@@ -53,11 +53,8 @@ bool collideSphere(const Vec3& rel_start, Vec3& rel_end, double radius, double m
   Vec3 corrected;
   if (rel_start.squaredNorm() >= r2) {
     // Started outside: first crossing of the path with the sphere, if any (continuous test).
-    const double a = path.squaredNorm(), b = rel_start.dot(path), c = rel_start.squaredNorm() - r2;
-    const double disc = b * b - a * c;
-    if (a <= 0.0 || disc < 0.0) return false;
-    const double t = (-b - std::sqrt(disc)) / a;
-    if (t < 0.0 || t > 1.0) return false;
+    const double t = sphereEntry(rel_start, path, radius);
+    if (t < 0.0) return false;
     const Vec3 normal = (rel_start + t * path) / radius;
     // Keep the motion along the tangent plane at the entry point, drop the part into it.
     corrected = rel_end - std::min(0.0, (rel_end - (rel_start + t * path)).dot(normal)) * normal;

@@ -28,9 +28,8 @@ bool sweptNormal(const Vec3& a, const Vec3& b, double r, double reach, Vec3& nor
   // the force into a drag.
   const bool sweep = std::sqrt(len2) > 0.5 * r || b.dot(a) <= 0.0;
   if (sweep && a.squaredNorm() > r * r && len2 > 0.0) {
-    const double bq = a.dot(path), c = a.squaredNorm() - r * r, disc = bq * bq - len2 * c;
-    const double enter = disc >= 0.0 ? (-bq - std::sqrt(disc)) / len2 : -1.0;
-    if (enter >= 0.0 && enter <= 1.0) {
+    const double enter = sphereEntry(a, path, r);
+    if (enter >= 0.0) {
       normal = (a + enter * path).normalized();
       swept = true;
       return true;
@@ -237,12 +236,6 @@ void ContactForces::finish(Colliders& colliders) {
       if (c.weight[j] > 0.0) vertex_force_[{bodies_[c.body].id, c.vertex[j]}] += c.lambda * c.weight[j];
     }
   }
-}
-
-Vec3 ContactForces::totalForce() const {
-  Vec3 f = Vec3::Zero();
-  for (const Contact& c : contacts_) f += c.lambda * c.normal + c.friction;
-  return f;
 }
 
 }  // namespace cloth_sim

@@ -36,6 +36,14 @@ Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const V
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
+double sphereEntry(const Vec3& start, const Vec3& path, double radius) {
+  const double a = path.squaredNorm(), b = start.dot(path), c = start.squaredNorm() - radius * radius;
+  const double disc = b * b - a * c;
+  if (a <= 0.0 || disc < 0.0) return -1.0;
+  const double t = (-b - std::sqrt(disc)) / a;
+  return t <= 1.0 ? t : -1.0;
+}
+
 double segmentTriangleCrossing(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
                                const Vec3& c) {
   const Vec3 dir = q - p, e1 = b - a, e2 = c - a;

@@ -32,8 +32,6 @@ BuiltObject buildGrid(const GridSpec& spec) {
 
   BuiltObject out;
   Model& model = out.model;
-  model.grid_rows = rows;
-  model.grid_cols = cols;
   out.rest_positions.resize(3, n);
   model.mass.resize(n);
   for (int r = 0; r < rows; ++r) {

@@ -73,13 +73,15 @@ void validateClothSurface(const TriangleMesh& mesh, const std::string& source) {
   std::map<std::pair<int, int>, std::vector<int>> edge_faces;
   for (int t = 0; t < mesh.triangleCount(); ++t) {
     const Eigen::Vector3i f = mesh.triangles.col(t);
-    const std::string name = "triangle " + std::to_string(t) + " (" + std::to_string(f[0]) + ", " +
-                             std::to_string(f[1]) + ", " + std::to_string(f[2]) + ")";
-    if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) fail(name + " repeats a vertex");
+    auto name = [&] {  // built only for an error message
+      return "triangle " + std::to_string(t) + " (" + std::to_string(f[0]) + ", " +
+             std::to_string(f[1]) + ", " + std::to_string(f[2]) + ")";
+    };
+    if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) fail(name() + " repeats a vertex");
     const double area = mesh.triangleArea(t);
     if (!(area > 1e-12 * diagonal2)) {
       std::ostringstream msg;
-      msg << name << " is degenerate (area " << area << " m^2)";
+      msg << name() << " is degenerate (area " << area << " m^2)";
       fail(msg.str());
     }
     for (int k = 0; k < 3; ++k) {

@@ -49,7 +49,6 @@ class CholmodFactor {
   bool factorize(const Eigen::SparseMatrix<double>& a);
   /// analyze + factorize.
   bool compute(const Eigen::SparseMatrix<double>& a);
-  bool analyzed() const;
 
   /// Solves A X = B in place; @p b is column-major, rows x @p columns, leading dimension rows.
   /// Work buffers are kept between calls (no allocation after the first call).

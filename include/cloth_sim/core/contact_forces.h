@@ -61,9 +61,6 @@ class ContactForces {
   void finish(Colliders& colliders);
 
   bool empty() const { return contacts_.empty(); }
-  std::size_t size() const { return contacts_.size(); }
-  /// Sum of the contact forces on the cloth (N).
-  Vec3 totalForce() const;
 
  private:
   struct Contact {

@@ -92,8 +92,13 @@ class LocalGlobalSolver : public Solver {
  private:
   void factorize(const SolverInput& input, LinearSolver backend);
   double pinEnergy(const NodeBuffer& x) const;
+  /// g(x) given the spring energy E(x) (J) of @p x: inertia, gravity, springs, soft pins.
+  double objectiveWith(const NodeBuffer& x, double spring_energy) const;
+  /// @p out (3 x N, particle order) = the node buffer @p x.
+  void toParticles(const NodeBuffer& x, Points& out) const;
   /// Per particle estimate of (A^-1)_ii (1/kg), 0 when pinned: the contacts' compliance.
-  void estimateCompliance(const Eigen::SparseMatrix<double>& a, const DofMap& dofs, int n);
+  /// (after the node order is set; @p a in free-index order).
+  void estimateCompliance(const Eigen::SparseMatrix<double>& a);
   /// Contact forces of iterate @p x added to the right-hand side @p rhs (node order).
   void addContactForces(const NodeBuffer& x, NodeBuffer& rhs);
   /// Keeps @p a (free-index order) as node_matrix_: rows and columns in node order.

@@ -48,8 +48,6 @@ struct Model {
   /// (mass-proportional damping, force -gamma m v, like still air). 0 = undamped.
   double damping = 0.0;
   double time_step = 1.0 / 60.0;   ///< s, implicit Euler step h
-  int grid_rows = 0;               ///< rows of the grid this model was built from (0 if none)
-  int grid_cols = 0;               ///< columns of the grid this model was built from (0 if none)
 
   int particleCount() const { return static_cast<int>(mass.size()); }
   /// Sets the stiffness (N/m) of every spring of @p family.

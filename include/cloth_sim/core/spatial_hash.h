@@ -24,7 +24,6 @@ class SpatialHash {
   template <typename Visit>
   void query(const Eigen::AlignedBox3d& box, Visit&& visit) const;
 
-  double cellSize() const { return cell_size_; }
 
  private:
   using Key = std::uint64_t;
