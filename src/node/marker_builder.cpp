@@ -103,6 +103,17 @@ Marker makeCloth(const MarkerScene& scene, const MarkerStyle& style,
   Marker m = makeMarker(header, kClothNs, 0, Marker::TRIANGLE_LIST);
   const Points normals =
       style.shading ? vertexNormals(scene.positions, scene.triangles) : Points();
+  // One colour per particle, shared by the triangle corners that meet there.
+  std::vector<std_msgs::ColorRGBA> colors(scene.positions.cols());
+  for (Eigen::Index i = 0; i < scene.positions.cols(); ++i) {
+    colors[i] = strainColor(scene.strain[i], style.strain_color_scale);
+    if (style.shading) {
+      const auto f = static_cast<float>(shadeFactor(normals.col(i)));
+      colors[i].r *= f;
+      colors[i].g *= f;
+      colors[i].b *= f;
+    }
+  }
   const Eigen::Index count = 3 * scene.triangles.cols();
   m.points.reserve(count);
   m.colors.reserve(count);
@@ -110,14 +121,7 @@ Marker makeCloth(const MarkerScene& scene, const MarkerStyle& style,
     for (int k = 0; k < 3; ++k) {
       const int i = scene.triangles(k, t);
       m.points.push_back(sanitize.point(scene.positions.col(i)));
-      std_msgs::ColorRGBA c = strainColor(scene.strain[i], style.strain_color_scale);
-      if (style.shading) {
-        const auto f = static_cast<float>(shadeFactor(normals.col(i)));
-        c.r *= f;
-        c.g *= f;
-        c.b *= f;
-      }
-      m.colors.push_back(c);
+      m.colors.push_back(colors[i]);
     }
   }
   return m;

@@ -32,20 +32,17 @@ bool ClothSimNode::answer(const std::string& name, Response& res,
   return true;  // a refusal is an answer, not a transport failure
 }
 
-void ClothSimNode::onPinMove(const PinMove::ConstPtr& msg) {
-  try {
-    sim_.movePin(msg->id, frames_.point(msg->target, "target"));
-  } catch (const std::exception& e) {
-    refuse("cloth/pin_move", "pin " + std::to_string(msg->id) + ": " + e.what());
-  }
-}
-
-void ClothSimNode::onPinDragged(int pin_id, const geometry_msgs::PointStamped& target) {
+void ClothSimNode::movePin(const char* source, int pin_id,
+                           const geometry_msgs::PointStamped& target) {
   try {
     sim_.movePin(pin_id, frames_.point(target, "target"));
   } catch (const std::exception& e) {
-    refuse("cloth/pin_handles", "pin " + std::to_string(pin_id) + ": " + e.what());
+    refuse(source, "pin " + std::to_string(pin_id) + ": " + e.what());
   }
+}
+
+void ClothSimNode::onPinMove(const PinMove::ConstPtr& msg) {
+  movePin("cloth/pin_move", msg->id, msg->target);
 }
 
 bool ClothSimNode::onSpawnSphere(SpawnSphere::Request& req, SpawnSphere::Response& res) {

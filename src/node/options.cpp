@@ -110,7 +110,7 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
 void validateNodeOptions(const NodeOptions& o) {
   if (o.scene.empty()) {
     fail("scene", "is required: a scene YAML file or the name of a shipped scene "
-                  "(hanging, drape, trampoline, stiff)");
+                  "(hanging, drape, trampoline, stiff, gravity_well, tablecloth)");
   }
   if (o.frame_id.empty() || o.frame_id.front() == '/') {
     fail("frame_id", "'" + o.frame_id + "' must be a non-empty tf2 frame name without a "

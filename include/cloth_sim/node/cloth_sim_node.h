@@ -67,7 +67,8 @@ class ClothSimNode {
 
   // --- inputs (node_inputs.cpp) ---------------------------------------------------------------
   void onPinMove(const PinMove::ConstPtr& msg);
-  void onPinDragged(int pin_id, const geometry_msgs::PointStamped& target);
+  /// Moves pin @p pin_id to @p target (any tf2 frame); a refusal is logged under @p source.
+  void movePin(const char* source, int pin_id, const geometry_msgs::PointStamped& target);
   bool onSpawnSphere(SpawnSphere::Request& req, SpawnSphere::Response& res);
   bool onRemoveSphere(RemoveSphere::Request& req, RemoveSphere::Response& res);
   bool onAddPin(AddPin::Request& req, AddPin::Response& res);
