@@ -33,6 +33,8 @@ STYLE = {
     "chebyshev+warm": ("tab:olive", "D"),
     "anderson": ("tab:orange", "P"),
     "anderson+warm": ("tab:orange", "X"),
+    "lbfgs": ("tab:cyan", "v"),
+    "lbfgs+warm": ("tab:cyan", "^"),
     "newton": ("tab:red", "*"),
     "explicit_euler": ("tab:purple", "x"),
     "verlet": ("tab:pink", "+"),

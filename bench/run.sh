@@ -10,7 +10,7 @@ set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../scripts/env.sh"
 what="${1:-all}"
 shift || true
-bash "$REPO_ROOT/scripts/build.sh" > /dev/null
+[ "$what" = report ] || bash "$REPO_ROOT/scripts/build.sh" > /dev/null
 BENCH="$WS/devel/lib/cloth_sim/cloth_sim_bench"
 echo "[bench] $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; load: $(cut -d' ' -f1-3 /proc/loadavg)"
 # One thread everywhere: the timings are single-core and comparable (OpenBLAS would otherwise

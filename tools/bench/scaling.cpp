@@ -16,6 +16,8 @@ namespace cloth_sim::bench {
 namespace {
 
 struct Timing {
+  int particles = 0;
+  std::size_t springs = 0;
   std::vector<double> step_ms, solve_ms, rest_ms;
   int failed = 0;
   double max_strain = 0.0;
@@ -24,6 +26,8 @@ struct Timing {
 Timing timeScene(const SceneConfig& config, double duration) {
   Simulation sim = makeSimulation(config);
   Timing t;
+  t.particles = sim.model().particleCount();
+  t.springs = sim.model().springs.size();
   const int steps = static_cast<int>(std::lround(duration / config.time_step));
   for (int s = 0; s < steps; ++s) {
     const StepReport r = sim.step();
@@ -77,14 +81,12 @@ void runScaling(const ScalingOptions& o) {
          "ms_p90,solve_ms_median,rest_ms_median,rest_us_per_particle,max_strain,failed_steps\n";
   auto record = [&](const std::string& name, int parameter, const SceneConfig& config,
                     int triangles) {
-    const Model model = buildCloth(config).model;
     const Timing t = timeScene(config, o.duration);
     const double rest = median(t.rest_ms);
-    csv << name << ',' << parameter << ',' << model.particleCount() << ','
-        << model.springs.size() << ',' << config.spheres.size() << ',' << triangles << ','
+    csv << name << ',' << parameter << ',' << t.particles << ',' << t.springs << ',' << config.spheres.size() << ',' << triangles << ','
         << t.step_ms.size() << ',' << median(t.step_ms) << ',' << quantile(t.step_ms, 0.1) << ','
         << quantile(t.step_ms, 0.9) << ',' << median(t.solve_ms) << ',' << rest << ','
-        << 1e3 * rest / model.particleCount() << ',' << t.max_strain << ',' << t.failed << '\n';
+        << 1e3 * rest / t.particles << ',' << t.max_strain << ',' << t.failed << '\n';
     csv.flush();
     std::cout << std::left << std::setw(16) << name << std::setw(6) << parameter
               << " ms/step " << std::setw(8) << median(t.step_ms) << " outside the solver "

@@ -46,7 +46,7 @@ Config configOf(const std::string& label) {
   const auto plus = c.solver.find('+');
   if (plus != std::string::npos) {
     c.warm = c.solver.substr(plus + 1) == "warm";
-    c.solver = label.substr(0, plus);
+    c.solver = c.solver.substr(0, plus);
   }
   const auto colon = c.solver.find(':');
   if (colon != std::string::npos) {
@@ -150,11 +150,9 @@ std::map<int, std::pair<std::vector<double>, std::vector<double>>> newtonErrors(
 void traceErrors(const std::string& case_name, const Config& c, const Model& model,
                  const PinSet& pins, const std::vector<Sample>& samples,
                  int cap, std::ofstream& out) {
-  std::unique_ptr<LocalGlobalSolver> solver;
-  if (c.solver == "chebyshev") solver = std::make_unique<ChebyshevSolver>();
-  else if (c.solver == "anderson") solver = std::make_unique<AndersonSolver>();
-  else if (c.solver == "lbfgs") solver = std::make_unique<LbfgsSolver>();
-  else solver = std::make_unique<LocalGlobalSolver>();
+  const std::unique_ptr<Solver> owned = makeSolver(c.solver);
+  auto* solver = dynamic_cast<LocalGlobalSolver*>(owned.get());
+  if (solver == nullptr || c.linear != LinearSolver::kFused) return;  // no iterate observer
   SolverSettings settings;
   settings.linear_solver = c.linear;
   settings.warm_start = c.warm;
@@ -230,7 +228,6 @@ void runSpeed(const SpeedOptions& o) {
     Simulation sim = makeSimulation(withSolver(bc.config, "local_global", 10, LinearSolver::kFused));
     const Model model = sim.model();
     const PinSet pins = sim.pins();
-    const State initial = sim.state();
     const int steps = std::max(1, static_cast<int>(o.duration / model.time_step + 0.5));
     std::vector<Sample> samples;
     for (int k = 1; k <= steps; ++k) {
@@ -256,26 +253,25 @@ void runSpeed(const SpeedOptions& o) {
     }
     refs.flush();
     {
-      LocalGlobalSolver probe;
-      State tmp = initial;
-      probe.step({model, pins, 1}, SolverSettings{}, tmp);
+      // The sampling run's local/global (fused, default settings) holds the factor.
+      const auto& factored = static_cast<const LocalGlobalSolver&>(sim.solver());
       cases << bc.name << ',' << model.particleCount() << ',' << model.springs.size() << ','
-            << probe.system().size() << ',' << probe.system().factorNonZeros() << ','
-            << probe.system().supernodal().solveBytes() << ',' << model.time_step << '\n';
+            << factored.system().size() << ',' << factored.system().factorNonZeros() << ','
+            << factored.system().supernodal().solveBytes() << ',' << model.time_step << '\n';
       cases.flush();
     }
 
     for (const std::string& label : labels) {
       const Config c = configOf(label);
       const std::vector<int> counts = c.iterative ? o.iterations : std::vector<int>{1};
-      const auto newton = c.solver == "newton" ? newtonErrors(counts, model, pins, samples)
-                                               : decltype(newtonErrors(counts, model, pins, samples)){};
+      const bool is_newton = c.solver == "newton";
+      const auto newton = is_newton ? newtonErrors(counts, model, pins, samples)
+                                    : decltype(newtonErrors(counts, model, pins, samples)){};
       for (int iterations : counts) {
         const double t0 = now();
         SceneConfig timed = withSolver(bc.config, c.solver, iterations, c.linear, c.warm);
         timed.options.settings = withParam(timed.options.settings, c);
         const TimedRun run = timeRun(timed, o);
-        const bool is_newton = c.solver == "newton";
         std::vector<double> e_g = is_newton ? newton.at(iterations).first : std::vector<double>();
         std::vector<double> e_x = is_newton ? newton.at(iterations).second : std::vector<double>();
         if (!is_newton) measureErrors(c, iterations, model, pins, samples, e_g, e_x);
@@ -284,11 +280,7 @@ void runSpeed(const SpeedOptions& o) {
                      "(%.1f s)\n", bc.name.c_str(), label.c_str(), iterations, median(run.wall_ms),
                      median(e_g), median(e_x), now() - t0);
       }
-      if ((c.solver == "local_global" || c.solver == "chebyshev" || c.solver == "anderson" ||
-           c.solver == "lbfgs") &&
-          c.linear == LinearSolver::kFused) {
-        traceErrors(bc.name, c, model, pins, samples, o.trace_iterations, traces);
-      }
+      traceErrors(bc.name, c, model, pins, samples, o.trace_iterations, traces);
       traces.flush();
     }
   }
