@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Turns the benchmark's CSV files into plots and Markdown tables (README, "Benchmark").
+"""Turns the benchmark's CSV files into plots and Markdown tables (docs/benchmark.md).
 
 Usage: bench/report.py [results_dir]   (default: bench/results next to this script)
 Reads speed.csv, traces.csv, references.csv, cases.csv, floor.csv, kernels.csv, stability.csv,

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The benchmark of the README in one command (make bench): builds (Release), then
+# The benchmark of docs/benchmark.md in one command (make bench): builds (Release), then
 #   floor      bandwidth floor and per-iteration cost on the paper's 81 x 81 cloth
 #   speed      every solver x iteration count x scene x grid, error against converged Newton
 #   stability  every solver over stiffness x time step x hard cases

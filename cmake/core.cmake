@@ -1,37 +1,40 @@
 # cloth_sim_core and its tests (included from CMakeLists.txt).
+# The folders are the layers, each depending only on the ones below it:
+#   io -> simulation -> solvers -> collision -> model -> linalg
 # ---------------------------------------------------------------------------------------------
-# cloth_sim_core: C++17 + Eigen + yaml-cpp, no ROS header anywhere.
+# cloth_sim_core: C++17 + Eigen + yaml-cpp + CHOLMOD, no ROS header anywhere.
 add_library(cloth_sim_core
-  src/core/model.cpp
-  src/core/pins.cpp
-  src/core/dof_map.cpp
-  src/core/spring_kernels.cpp
-  src/core/sparse_pattern.cpp
-  src/core/cholmod_factor.cpp
-  src/core/triangular_kernels.cpp
-  src/core/local_step.cpp
-  src/core/scalar_system.cpp
-  src/core/implicit_euler.cpp
-  src/core/explicit_solvers.cpp
-  src/core/newton_solver.cpp
-  src/core/local_global_solver.cpp
-  src/core/lbfgs_solver.cpp
-  src/core/local_global_3n_solver.cpp
-  src/core/solver.cpp
-  src/core/colliders.cpp
-  src/core/grid_builder.cpp
+  src/core/linalg/block_pattern.cpp
+  src/core/linalg/cholmod_factor.cpp
+  src/core/linalg/supernodal_solves.cpp
+  src/core/model/model.cpp
+  src/core/model/pins.cpp
+  src/core/model/free_particles.cpp
+  src/core/model/spring_kernels.cpp
+  src/core/model/strain_field.cpp
+  src/core/model/grid_builder.cpp
+  src/core/model/triangle_mesh.cpp
+  src/core/model/mesh_builder.cpp
+  src/core/collision/colliders.cpp
+  src/core/collision/contact_projection.cpp
+  src/core/collision/contact_forces.cpp
+  src/core/collision/sphere_impacts.cpp
+  src/core/collision/spatial_hash.cpp
+  src/core/collision/mesh_obstacle.cpp
+  src/core/solvers/solver.cpp
+  src/core/solvers/implicit_euler_problem.cpp
+  src/core/solvers/newton_solver.cpp
+  src/core/solvers/local_global/local_step.cpp
+  src/core/solvers/local_global/global_system.cpp
+  src/core/solvers/local_global/local_global_solver.cpp
+  src/core/solvers/local_global/lbfgs_solver.cpp
+  src/core/solvers/baselines/explicit_solvers.cpp
+  src/core/solvers/baselines/local_global_3n_solver.cpp
   src/core/simulation.cpp
-  src/core/scene.cpp
-  src/core/triangle_mesh.cpp
-  src/core/mesh_builder.cpp
-  src/core/spatial_hash.cpp
-  src/core/contact_response.cpp
-  src/core/mesh_obstacle.cpp
-  src/core/sphere_impacts.cpp
-  src/core/contact_forces.cpp
+  src/core/io/scene.cpp
 )
 # CHOLMOD (SuiteSparse, Debian libsuitesparse-dev): no CMake package in Debian 12, so found by
-# hand. Private: its headers stay in src/core/cholmod_factor.cpp.
+# hand. Private: its headers stay in src/core/linalg/cholmod_factor.cpp.
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
 find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
 target_include_directories(cloth_sim_core PUBLIC include ${EIGEN3_INCLUDE_DIRS})
@@ -41,29 +44,31 @@ target_link_libraries(cloth_sim_core PUBLIC yaml-cpp
                       PRIVATE tinyobjloader::tinyobjloader_double ${CHOLMOD_LIBRARY})
 set_target_properties(cloth_sim_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
-
 # ---------------------------------------------------------------------------------------------
-# Core tests: one gtest per core module, no ROS master.
+# Core tests: one gtest per core module, in the folder of its module, no ROS master.
 if(CATKIN_ENABLE_TESTING)
+  # Shared test helpers, compiled once (built only with the tests).
+  add_library(cloth_sim_core_test_util STATIC EXCLUDE_FROM_ALL test/core/test_util.cpp)
+  target_link_libraries(cloth_sim_core_test_util PUBLIC cloth_sim_core GTest::gtest)
+  target_include_directories(cloth_sim_core_test_util PUBLIC test/core)
+  target_compile_definitions(cloth_sim_core_test_util PRIVATE
+                             CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+
   set(CORE_TESTS
-    model_test pins_test spring_kernels_test implicit_euler_test explicit_solvers_test
-    newton_solver_test local_global_solver_test colliders_test grid_builder_test
-    simulation_test scene_test triangle_mesh_test mesh_builder_test mesh_obstacle_test
-    sphere_impacts_test dynamic_spheres_test cholmod_factor_test triangular_kernels_test
-    local_step_test scalar_system_test local_global_3n_solver_test)
-  foreach(t ${CORE_TESTS})
-    catkin_add_gtest(${t} test/core/${t}.cpp test/core/test_util.cpp
-                     WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-    target_link_libraries(${t} cloth_sim_core GTest::gtest_main)
+    linalg/cholmod_factor_test linalg/supernodal_solves_test
+    model/model_test model/pins_test model/spring_kernels_test model/strain_field_test
+    model/grid_builder_test model/triangle_mesh_test model/mesh_builder_test
+    collision/colliders_test collision/mesh_obstacle_test collision/sphere_impacts_test
+    collision/dynamic_spheres_test
+    solvers/implicit_euler_problem_test solvers/newton_solver_test
+    solvers/local_global/local_step_test solvers/local_global/global_system_test
+    solvers/local_global/local_global_solver_test
+    solvers/baselines/explicit_solvers_test solvers/baselines/local_global_3n_solver_test
+    simulation_test io/scene_test)
+  foreach(path ${CORE_TESTS})
+    get_filename_component(t ${path} NAME)
+    catkin_add_gtest(${t} test/core/${path}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+    target_link_libraries(${t} cloth_sim_core_test_util GTest::gtest_main)
     target_compile_definitions(${t} PRIVATE CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   endforeach()
-endif()
-
-
-# ---------------------------------------------------------------------------------------------
-# Per-particle strain field, for display by the ROS node (issue 3).
-target_sources(cloth_sim_core PRIVATE src/core/strain_field.cpp)
-if(CATKIN_ENABLE_TESTING)
-  catkin_add_gtest(strain_field_test test/core/strain_field_test.cpp)
-  target_link_libraries(strain_field_test cloth_sim_core GTest::gtest_main)
 endif()

@@ -13,7 +13,6 @@ add_library(cloth_sim_ros
   src/node/step_monitor.cpp
   src/node/log_throttle.cpp
   src/node/pin_handles.cpp
-  src/node/pin_teleop.cpp
 )
 target_include_directories(cloth_sim_ros PUBLIC include)
 target_link_libraries(cloth_sim_ros PUBLIC cloth_sim_core ${catkin_LIBRARIES})
@@ -27,8 +26,12 @@ add_executable(cloth_sim_node
 )
 target_link_libraries(cloth_sim_node cloth_sim_ros)
 
-add_executable(pin_teleop src/node/pin_teleop_main.cpp)
-target_link_libraries(pin_teleop cloth_sim_ros)
+# pin_teleop: a keyboard tool that drives the node's pins (tools/pin_teleop).
+add_library(cloth_sim_teleop STATIC tools/pin_teleop/pin_teleop.cpp)
+target_include_directories(cloth_sim_teleop PUBLIC tools/pin_teleop)
+target_link_libraries(cloth_sim_teleop PUBLIC cloth_sim_ros)
+add_executable(pin_teleop tools/pin_teleop/pin_teleop_main.cpp)
+target_link_libraries(pin_teleop cloth_sim_teleop)
 
 install(TARGETS cloth_sim_ros cloth_sim_node pin_teleop
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
@@ -41,12 +44,15 @@ install(DIRECTORY launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 if(CATKIN_ENABLE_TESTING)
   set(NODE_UNIT_TESTS
     options_test conversions_test frame_resolver_test marker_builder_test step_monitor_test
-    pin_handles_test pin_teleop_test)
+    pin_handles_test)
   foreach(t ${NODE_UNIT_TESTS})
     catkin_add_gtest(node_${t} test/node/${t}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
     target_link_libraries(node_${t} cloth_sim_ros GTest::gtest_main)
     target_compile_definitions(node_${t} PRIVATE CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   endforeach()
+
+  catkin_add_gtest(pin_teleop_test test/tools/pin_teleop_test.cpp)
+  target_link_libraries(pin_teleop_test cloth_sim_teleop GTest::gtest_main)
 
   find_package(rostest REQUIRED)
   # Helpers of the rostests, compiled once for all of them (built only with the tests).

@@ -1,9 +1,10 @@
 # Tools built on the core: headless runner and benchmark (included from CMakeLists.txt).
 # ---------------------------------------------------------------------------------------------
-add_library(cloth_sim_tools STATIC tools/step_log.cpp)
+add_library(cloth_sim_tools STATIC tools/runner/step_log.cpp)
+target_include_directories(cloth_sim_tools PUBLIC tools/runner)
 target_link_libraries(cloth_sim_tools PUBLIC cloth_sim_core)
 
-add_executable(cloth_sim_run tools/run_scene.cpp)
+add_executable(cloth_sim_run tools/runner/run_scene.cpp)
 target_link_libraries(cloth_sim_run cloth_sim_tools CLI11::CLI11)
 
 if(CATKIN_ENABLE_TESTING)

@@ -5,9 +5,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "cloth_sim/core/implicit_euler.h"
-#include "cloth_sim/core/sphere_impacts.h"
-#include "cloth_sim/core/spring_kernels.h"
+#include "cloth_sim/core/solvers/implicit_euler_problem.h"
+#include "cloth_sim/core/collision/sphere_impacts.h"
+#include "cloth_sim/core/model/spring_kernels.h"
 
 namespace cloth_sim {
 

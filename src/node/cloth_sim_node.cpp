@@ -8,7 +8,7 @@
 
 #include <cloth_sim/ClothState.h>
 
-#include "cloth_sim/core/strain_field.h"
+#include "cloth_sim/core/model/strain_field.h"
 #include "cloth_sim/node/conversions.h"
 
 namespace cloth_sim::node {

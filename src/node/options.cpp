@@ -4,7 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "cloth_sim/core/solver.h"
+#include "cloth_sim/core/solvers/solver.h"
 
 namespace cloth_sim::node {
 namespace {

@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include "cloth_sim/core/scene.h"
-#include "cloth_sim/core/spring_kernels.h"
+#include "cloth_sim/core/io/scene.h"
+#include "cloth_sim/core/model/spring_kernels.h"
 #include "test_util.h"
 
 namespace cloth_sim {

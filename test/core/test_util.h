@@ -6,10 +6,10 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
-#include "cloth_sim/core/cholmod_factor.h"
-#include "cloth_sim/core/grid_builder.h"
+#include "cloth_sim/core/linalg/cholmod_factor.h"
+#include "cloth_sim/core/model/grid_builder.h"
 #include "cloth_sim/core/simulation.h"
-#include "cloth_sim/core/solver.h"
+#include "cloth_sim/core/solvers/solver.h"
 
 namespace cloth_sim::test {
 

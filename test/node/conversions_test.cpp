@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cloth_sim/core/scene.h"
+#include "cloth_sim/core/io/scene.h"
 #include "cloth_sim/node/conversions.h"
 #include "error_of.h"
 

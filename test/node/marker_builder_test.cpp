@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cloth_sim/core/grid_builder.h"
+#include "cloth_sim/core/model/grid_builder.h"
 #include "cloth_sim/node/marker_builder.h"
 
 namespace cloth_sim::node {

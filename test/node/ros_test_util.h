@@ -15,7 +15,7 @@
 
 #include <cloth_sim/ClothState.h>
 
-#include "cloth_sim/core/scene.h"
+#include "cloth_sim/core/io/scene.h"
 #include "cloth_sim/node/conversions.h"
 
 namespace cloth_sim::test {

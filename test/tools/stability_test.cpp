@@ -1,4 +1,4 @@
-// The stability sweep of the README on a small grid: the implicit solvers are stable in every
+// The stability sweep of docs/benchmark.md on a small grid: the implicit solvers are stable in every
 // cell (finite, never rolled back, back under 100 % strain by the end of the run).
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@ namespace cloth_sim::bench {
 namespace {
 
 constexpr int kGrid = 8;
-// The README sweep (StabilityOptions' defaults: stiffness, time steps, cases, iterations,
+// The benchmark sweep (StabilityOptions' defaults: stiffness, time steps, cases, iterations,
 // 3 s with the teleport and the throw at 0.5 s, damping), on a smaller grid.
 const StabilityOptions kDefaults;
 

@@ -1,4 +1,4 @@
-// cloth_sim_bench: speed against error, the bandwidth floor, the stability sweep (README).
+// cloth_sim_bench: speed against error, the bandwidth floor, the stability sweep (docs/benchmark.md).
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -14,7 +14,7 @@
 
 int main(int argc, char** argv) {
   using namespace cloth_sim::bench;
-  CLI::App app{"cloth_sim benchmark (see README, 'Benchmark')"};
+  CLI::App app{"cloth_sim benchmark (see docs/benchmark.md)"};
   app.require_subcommand(1);
   std::string source_dir = CLOTH_SIM_SOURCE_DIR;
 

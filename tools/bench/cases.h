@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "cloth_sim/core/scene.h"
+#include "cloth_sim/core/io/scene.h"
 
 namespace cloth_sim::bench {
 

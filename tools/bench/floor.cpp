@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "cases.h"
-#include "cloth_sim/core/local_global_solver.h"
+#include "cloth_sim/core/solvers/local_global/local_global_solver.h"
 #include "stats.h"
 
 namespace cloth_sim::bench {

@@ -1,5 +1,5 @@
 // The memory-bandwidth floor of one local/global iteration on the paper's 81 x 81 cloth, and
-// the measured per-iteration cost of every global-step implementation (README, "Performance").
+// the measured per-iteration cost of every global-step implementation (docs/benchmark.md, "Performance").
 #pragma once
 
 #include <string>

@@ -6,9 +6,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "cloth_sim/core/implicit_euler.h"
-#include "cloth_sim/core/local_global_solver.h"
-#include "cloth_sim/core/newton_solver.h"
+#include "cloth_sim/core/solvers/implicit_euler_problem.h"
+#include "cloth_sim/core/solvers/local_global/local_global_solver.h"
+#include "cloth_sim/core/solvers/newton_solver.h"
 #include "stats.h"
 
 namespace cloth_sim::bench {

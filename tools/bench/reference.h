@@ -3,12 +3,12 @@
 
 #include <string>
 
-#include "cloth_sim/core/model.h"
-#include "cloth_sim/core/pins.h"
+#include "cloth_sim/core/model/model.h"
+#include "cloth_sim/core/model/pins.h"
 
 namespace cloth_sim::bench {
 
-/// x* = argmin g of one implicit Euler step (METHOD.md), and how well it is converged.
+/// x* = argmin g of one implicit Euler step (docs/method.md), and how well it is converged.
 struct Reference {
   Points x_star;             ///< m
   double g_star = 0.0;       ///< g(x*), kg m^2

@@ -7,9 +7,9 @@
 #include <memory>
 #include <stdexcept>
 
-#include "cloth_sim/core/mesh_obstacle.h"
-#include "cloth_sim/core/scene.h"
-#include "cloth_sim/core/triangle_mesh.h"
+#include "cloth_sim/core/collision/mesh_obstacle.h"
+#include "cloth_sim/core/io/scene.h"
+#include "cloth_sim/core/model/triangle_mesh.h"
 #include "stats.h"
 
 namespace cloth_sim::bench {

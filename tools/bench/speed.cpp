@@ -8,10 +8,10 @@
 #include <set>
 
 #include "cases.h"
-#include "cloth_sim/core/implicit_euler.h"
-#include "cloth_sim/core/lbfgs_solver.h"
-#include "cloth_sim/core/local_global_solver.h"
-#include "cloth_sim/core/newton_solver.h"
+#include "cloth_sim/core/solvers/implicit_euler_problem.h"
+#include "cloth_sim/core/solvers/local_global/lbfgs_solver.h"
+#include "cloth_sim/core/solvers/local_global/local_global_solver.h"
+#include "cloth_sim/core/solvers/newton_solver.h"
 #include "reference.h"
 #include "stats.h"
 

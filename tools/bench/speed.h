@@ -1,4 +1,4 @@
-// Speed against error: every solver and iteration count on the benchmark scenes (README).
+// Speed against error: every solver and iteration count on the benchmark scenes (docs/benchmark.md).
 #pragma once
 
 #include <string>

@@ -1,10 +1,10 @@
-// Stability sweep: every solver over stiffness, time step and three hard cases (README).
+// Stability sweep: every solver over stiffness, time step and three hard cases (docs/benchmark.md).
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "cloth_sim/core/scene.h"
+#include "cloth_sim/core/io/scene.h"
 
 namespace cloth_sim::bench {
 
@@ -45,7 +45,7 @@ struct CellResult {
   double end_strain = 0.0;           ///< max over the last 0.25 s
   double peak_energy = 0.0, end_energy = 0.0;  ///< J
   /// stable: finite, never rolled back, and back under 100 % strain by the end; a transient
-  /// over 100 % (peak_strain) is reported apart, see README "Stability".
+  /// over 100 % (peak_strain) is reported apart, see docs/benchmark.md, "Stability".
   bool stable() const { return finite && rollbacks == 0 && end_strain <= 1.0; }
 };
 

@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "cloth_sim/core/colliders.h"
-#include "cloth_sim/core/contact_forces.h"
-#include "cloth_sim/core/model.h"
-#include "cloth_sim/core/pins.h"
-#include "cloth_sim/core/solver.h"
+#include "cloth_sim/core/collision/colliders.h"
+#include "cloth_sim/core/collision/contact_forces.h"
+#include "cloth_sim/core/model/model.h"
+#include "cloth_sim/core/model/pins.h"
+#include "cloth_sim/core/solvers/solver.h"
 
 namespace cloth_sim {
 

@@ -23,7 +23,7 @@
 #include <cloth_sim/RemoveSphere.h>
 #include <cloth_sim/SpawnSphere.h>
 
-#include "cloth_sim/core/scene.h"
+#include "cloth_sim/core/io/scene.h"
 #include "cloth_sim/core/simulation.h"
 #include "cloth_sim/node/frame_resolver.h"
 #include "cloth_sim/node/log_throttle.h"
@@ -34,7 +34,7 @@
 
 namespace cloth_sim::node {
 
-/// The ROS shell around one Simulation (the public contract is in the README).
+/// The ROS shell around one Simulation (the public contract: docs/ros_interface.md).
 ///
 /// Threading: every callback (timers, subscriber, services, dynamic_reconfigure, drag handles)
 /// runs on the global callback queue, which main() spins with one thread; the Simulation is

@@ -15,8 +15,8 @@
 #include <cloth_sim/SpawnSphere.h>
 #include <cloth_sim/SphereInfo.h>
 
-#include "cloth_sim/core/colliders.h"
-#include "cloth_sim/core/pins.h"
+#include "cloth_sim/core/collision/colliders.h"
+#include "cloth_sim/core/model/pins.h"
 #include "cloth_sim/core/simulation.h"
 
 namespace cloth_sim::node {

@@ -10,7 +10,7 @@
 #include <std_msgs/Header.h>
 #include <tf2_ros/buffer.h>
 
-#include "cloth_sim/core/types.h"
+#include "cloth_sim/core/linalg/types.h"
 
 namespace cloth_sim::node {
 

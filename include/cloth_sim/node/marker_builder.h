@@ -10,10 +10,10 @@
 #include <std_msgs/Header.h>
 #include <visualization_msgs/MarkerArray.h>
 
-#include "cloth_sim/core/colliders.h"
-#include "cloth_sim/core/mesh_obstacle.h"
-#include "cloth_sim/core/pins.h"
-#include "cloth_sim/core/types.h"
+#include "cloth_sim/core/collision/colliders.h"
+#include "cloth_sim/core/collision/mesh_obstacle.h"
+#include "cloth_sim/core/model/pins.h"
+#include "cloth_sim/core/linalg/types.h"
 
 namespace cloth_sim::node {
 

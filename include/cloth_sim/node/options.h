@@ -7,7 +7,7 @@
 
 #include <xmlrpcpp/XmlRpcValue.h>
 
-#include "cloth_sim/core/scene.h"
+#include "cloth_sim/core/io/scene.h"
 
 namespace cloth_sim::node {
 
@@ -26,7 +26,7 @@ struct NodeOptions {
   /// ~iterations: replaces the scene's iterations per step when > 0; 0 keeps the scene's.
   int iterations = 0;
   /// ~max_rollbacks, >= 1: after this many rolled-back (diverged) steps in a row the node
-  /// resets the simulation to its initial state (see README, "Divergence").
+  /// resets the simulation to its initial state (see docs/ros_interface.md, "Divergence").
   int max_rollbacks = 30;
   /// ~strain_color_scale, > 0: the strain drawn at full colour (0.05 = 5 %).
   double strain_color_scale = 0.05;

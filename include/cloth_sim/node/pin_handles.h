@@ -12,7 +12,7 @@
 #include <interactive_markers/interactive_marker_server.h>
 #include <visualization_msgs/InteractiveMarker.h>
 
-#include "cloth_sim/core/pins.h"
+#include "cloth_sim/core/model/pins.h"
 
 namespace cloth_sim::node {
 

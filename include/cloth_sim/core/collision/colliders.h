@@ -1,0 +1,108 @@
+/// @file colliders.h
+/// Kinematic colliders (spheres, ground plane) and the contact response applied after a solve.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "cloth_sim/core/collision/mesh_obstacle.h"
+#include "cloth_sim/core/linalg/types.h"
+
+namespace cloth_sim {
+
+/// A sphere the cloth collides with.
+///
+/// With mass 0 it is kinematic: the user places it and may give it a constant velocity (thrown);
+/// nothing pushes it back. With mass > 0 it is a rigid body (solid ball, moment of inertia
+/// 2/5 m r^2) under gravity: cloth particles, the ground and other spheres push on it with equal
+/// and opposite impulses, so momentum is exchanged consistently.
+struct SphereCollider {
+  int id = -1;                  ///< stable handle, unique within Colliders
+  Vec3 center = Vec3::Zero();   ///< m
+  double radius = 0.1;          ///< m, > 0
+  Vec3 velocity = Vec3::Zero(); ///< m/s; a kinematic sphere keeps it, a dynamic one starts with it
+  /// Coulomb friction coefficient mu >= 0 of its contacts (with the cloth: the tangential slide
+  /// is cut by mu times the normal correction; with the ground and other spheres: the tangential
+  /// impulse is at most mu times the normal impulse). 0 = frictionless.
+  double friction = 0.0;
+  double mass = 0.0;            ///< kg, >= 0; 0 = kinematic
+  Vec3 angular_velocity = Vec3::Zero();  ///< rad/s (dynamic spheres spin under friction)
+  /// Normal restitution e in [0, 1] of its impacts with the ground and other spheres: the normal
+  /// relative speed after an impact is e times the one before (0 = no bounce).
+  double restitution = 0.0;
+
+  bool isDynamic() const { return mass > 0.0; }
+  /// Moment of inertia of a solid ball, 2/5 m r^2 (kg m^2).
+  double inertia() const { return 0.4 * mass * radius * radius; }
+};
+
+/// The plane z = height with normal +z.
+struct GroundPlane {
+  bool enabled = false;
+  double height = 0.0;    ///< m
+  double friction = 0.0;  ///< Coulomb coefficient mu >= 0
+};
+
+/// The colliders of a simulation, with stable sphere ids.
+class Colliders {
+ public:
+  /// Adds a sphere (its id field is ignored) and returns the new id. Throws
+  /// std::invalid_argument naming the bad field (non-finite, radius <= 0, friction < 0).
+  int addSphere(const SphereCollider& sphere);
+  /// Throws std::invalid_argument if no sphere has this id.
+  void removeSphere(int id);
+  /// Places sphere @p id at @p center with @p velocity; validated as in addSphere.
+  void moveSphere(int id, const Vec3& center, const Vec3& velocity);
+  const SphereCollider* findSphere(int id) const;
+  const std::vector<SphereCollider>& spheres() const { return spheres_; }
+  /// Mutable access for the contact response (ids must not be changed).
+  std::vector<SphereCollider>& mutableSpheres() { return spheres_; }
+
+  /// Throws std::invalid_argument when height or friction is not finite or friction < 0.
+  void setGround(const GroundPlane& ground);
+  const GroundPlane& ground() const { return ground_; }
+
+  /// Adds a static mesh obstacle (shared, immutable: copying Colliders stays cheap).
+  void addMesh(std::shared_ptr<const MeshObstacle> mesh);
+  const std::vector<std::shared_ptr<const MeshObstacle>>& meshes() const { return meshes_; }
+
+  /// Moves the spheres over one step: a kinematic one by velocity * h; a dynamic one by
+  /// symplectic Euler under @p gravity and the model's drag (v <- @p decay v + g h, spin
+  /// <- decay spin, then centre += v h), decay = exp(-damping h) as for the cloth.
+  void advance(double h, const Vec3& gravity = Vec3::Zero(), double decay = 1.0);
+  bool empty() const { return spheres_.empty() && meshes_.empty() && !ground_.enabled; }
+
+ private:
+  std::vector<SphereCollider> spheres_;
+  std::vector<std::shared_ptr<const MeshObstacle>> meshes_;
+  GroundPlane ground_;
+  int next_id_ = 0;
+};
+
+/// Contact response after the solve (Liu et al. 2013, section 5: move penetrating particles out).
+///
+/// For each particle that is free (@p movable[i] true): spheres are tested along the particle's
+/// path relative to the sphere (from start - old centre to end - new centre), so a fast sphere
+/// cannot pass through a particle within one step; a particle that entered is put back on the
+/// surface where it entered; mesh obstacles keep it on the side it came from (MeshObstacle);
+/// one below the ground is lifted onto it. Coulomb friction cuts the tangential displacement
+/// relative to the collider (for a spinning sphere: relative to its moving surface) by mu times
+/// the normal correction (sticking when it is smaller). Each corrected particle gets the
+/// velocity (end - start) / h, so velocities stay consistent with the projected positions:
+/// against a still collider the normal speed into it becomes 0 and no energy is added.
+///
+/// Against a dynamic sphere of mass M the correction d of a particle of mass m is shared: the
+/// particle moves by M/(M+m) d and the sphere receives the opposite impulse (its centre moves by
+/// -m/(M+m) d; its velocity and spin change accordingly), so linear momentum is conserved
+/// exactly. Sphere reactions are summed over all particles and applied at the end.
+///
+/// Spheres are at their end-of-step centres (Colliders::advance done); the start centre is
+/// center - velocity * h. @p mass is per particle (kg). With @p in_solve_contacts the solver
+/// already solved the dynamic spheres' contacts (ContactForces): a particle overlapping such a
+/// sphere by less than 5 % of its radius is then left alone. Returns the number of corrected
+/// particles.
+int resolveCollisions(Colliders& colliders, double h, const Eigen::VectorXd& mass,
+                      const std::vector<char>& movable, const Points& start, Points& end,
+                      Points& velocities, bool in_solve_contacts = false);
+
+}  // namespace cloth_sim

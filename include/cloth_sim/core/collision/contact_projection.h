@@ -1,0 +1,30 @@
+/// @file contact_projection.h
+/// Small pieces of the position-level contact response shared by every collider type.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include "cloth_sim/core/linalg/types.h"
+
+namespace cloth_sim {
+
+/// Coulomb friction on a contact displacement (Liu et al. 2013 style position response):
+/// removes up to mu * normal_correction (m) of the part of @p displacement tangent to @p normal,
+/// and all of it when that part is smaller (static friction: the particle sticks).
+Vec3 applyFriction(const Vec3& displacement, const Vec3& normal, double normal_correction,
+                   double mu);
+
+/// Closest point to @p p on triangle (a, b, c) (Ericson, Real-Time Collision Detection 5.1.5).
+Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+/// First parameter t in [0, 1] where the path start + t path enters the sphere of radius
+/// @p radius centred at the origin (the smaller root of |start + t path|^2 = r^2), or a
+/// negative value if it does not (a start inside the sphere has no entry).
+double sphereEntry(const Vec3& start, const Vec3& path, double radius);
+
+/// Parameter t in [0, 1] where segment p + t (q - p) crosses triangle (a, b, c), or a negative
+/// value if it does not (Moller-Trumbore; a segment lying in the triangle's plane is a miss).
+double segmentTriangleCrossing(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
+                               const Vec3& c);
+
+}  // namespace cloth_sim

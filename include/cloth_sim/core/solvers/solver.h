@@ -1,0 +1,109 @@
+/// @file solver.h
+/// One interface for every time integrator, selectable by name.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cloth_sim/core/model/model.h"
+#include "cloth_sim/core/model/pins.h"
+
+namespace cloth_sim {
+
+/// How local/global and chebyshev solve their global step (M + h^2 L) x = b, and how newton
+/// factors its Hessian (kEigen: Eigen SimplicialLLT; the others: CHOLMOD supernodal). All give
+/// the same iterates to round-off; they differ in speed only (docs/benchmark.md, "Performance").
+enum class LinearSolver {
+  kFused,    ///< CHOLMOD factor (AMD or METIS ordering), hand-written fused 3-column solves
+  kCholmod,  ///< CHOLMOD factor and CHOLMOD's own solve, x, y and z as three columns
+  kEigen,    ///< Eigen SimplicialLLT (AMD) and its solve: the first implementation, kept to compare
+};
+/// "fused", "cholmod", "eigen".
+const char* linearSolverName(LinearSolver solver);
+/// The LinearSolver called @p name; throws std::invalid_argument listing the names if unknown.
+LinearSolver linearSolverFromName(const std::string& name);
+
+/// Iteration controls shared by the solvers (each uses what applies to it).
+struct SolverSettings {
+  /// Iterations per step: local/global and chebyshev run exactly this many unless tolerance
+  /// stops them first; newton uses it as a cap. Ignored by the explicit solvers. >= 1.
+  int max_iterations = 10;
+  /// Stop when the convergence measure (relative position change of the last iteration, see
+  /// SolveResult) drops below this. 0 = always run max_iterations (fixed real-time cost).
+  double tolerance = 0.0;
+  /// chebyshev: spectral radius rho of plain local/global, in [0, 1). 0 = the upper bound
+  /// localGlobalRhoBound (an overestimate only slows the acceleration down; an underestimate,
+  /// as the former measured value was, makes the slow modes grow until the safeguard restarts).
+  double chebyshev_rho = 0.0;
+  /// chebyshev: under-relaxation gamma of Wang 2015, in (0, 1]. 1 (none) converged 5-30 %
+  /// faster than Wang's 0.9 on the benchmark scenes.
+  double chebyshev_gamma = 1.0;
+  /// chebyshev: plain local/global iterations before acceleration starts (Wang's S), >= 1.
+  int chebyshev_delay = 3;
+  /// anderson: number m of past iterates whose differences form the least-squares model
+  /// (Peng et al. 2018 use 5-10), in [1, 50].
+  int anderson_window = 5;
+  /// lbfgs: number m of (s, t) pairs kept by L-BFGS (Liu, Bouaziz, Kavan 2017 use 5), in [1, 50].
+  int lbfgs_window = 5;
+  /// local_global, chebyshev, anderson, lbfgs: start each step from y + (x_n - y_{n-1}), the previous step's
+  /// correction, instead of y, whenever that start has the lower objective g. Motion is
+  /// coherent from step to step, so the correction (what the springs did to the inertial
+  /// prediction) changes little: fewer iterations for the same error.
+  bool warm_start = false;
+  /// How the linear systems are solved (same result, different speed), see LinearSolver.
+  LinearSolver linear_solver = LinearSolver::kFused;
+
+  /// Throws std::invalid_argument naming the first field out of its range.
+  void validate() const;
+};
+
+/// What a solver did in one step.
+struct SolveResult {
+  int iterations = 0;        ///< iterations done (1 for the explicit solvers)
+  /// Relative position change of the last iteration, |x_k - x_{k-1}| / |x_k - x_0| (x_0 the
+  /// initial guess); 0 for the explicit solvers.
+  double convergence = 0.0;
+  bool converged = false;    ///< tolerance reached (always false when tolerance is 0)
+  /// The solver solved SolverInput::contacts with the step (local/global, chebyshev).
+  bool used_contacts = false;
+};
+
+class ContactForces;
+
+/// The parts of the world a solver reads besides the state.
+struct SolverInput {
+  const Model& model;
+  const PinSet& pins;
+  /// Bumped whenever h, a stiffness, a mass or the set of pins changes: a solver holding a
+  /// factorization refactors when it sees a new value, and only then.
+  std::uint64_t revision;
+  /// Contact forces to solve with the step (local/global and chebyshev do), or nullptr.
+  ContactForces* contacts = nullptr;
+};
+
+/// A time integrator for the mass-spring model. It moves @c state by one step of
+/// model.time_step (pins at their current targets, no collision: Simulation resolves those).
+class Solver {
+ public:
+  virtual ~Solver() = default;
+  /// Name used to select it: "explicit_euler", "verlet", "newton", "local_global", "chebyshev",
+  /// "anderson", "lbfgs", "local_global_3n".
+  virtual const char* name() const = 0;
+  /// Advances @p state by one step. May leave non-finite values on blow-up: the caller checks.
+  virtual SolveResult step(const SolverInput& input, const SolverSettings& settings,
+                           State& state) = 0;
+  /// Sparse matrix factorizations done so far (numeric ones; Newton does one per iteration).
+  int factorizationCount() const { return factorizations_; }
+
+ protected:
+  int factorizations_ = 0;
+};
+
+/// The names makeSolver accepts.
+std::vector<std::string> solverNames();
+/// A new solver by name; throws std::invalid_argument listing the valid names if unknown.
+std::unique_ptr<Solver> makeSolver(const std::string& name);
+
+}  // namespace cloth_sim

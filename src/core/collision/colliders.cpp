@@ -1,0 +1,262 @@
+#include "cloth_sim/core/collision/colliders.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "cloth_sim/core/collision/contact_projection.h"
+#include "cloth_sim/core/collision/spatial_hash.h"
+
+namespace cloth_sim {
+namespace {
+
+/// Overlap (fraction of the radius) a particle may keep with a dynamic sphere whose contacts
+/// were solved with the step: the half-space linearisation of the sphere leaves a vertex next
+/// to a contact point up to about (spacing / 2)^2 / (2 r) inside it.
+constexpr double kShallowOverlap = 0.05;
+
+void checkSphere(const SphereCollider& s) {
+  if (!s.center.allFinite()) throw std::invalid_argument("sphere center must be finite");
+  if (!s.velocity.allFinite()) throw std::invalid_argument("sphere velocity must be finite");
+  if (!s.angular_velocity.allFinite()) {
+    throw std::invalid_argument("sphere angular velocity must be finite");
+  }
+  if (!std::isfinite(s.radius) || s.radius <= 0.0) {
+    throw std::invalid_argument("sphere radius " + std::to_string(s.radius) +
+                                " m must be finite and > 0");
+  }
+  if (!std::isfinite(s.friction) || s.friction < 0.0) {
+    throw std::invalid_argument("sphere friction " + std::to_string(s.friction) +
+                                " must be finite and >= 0");
+  }
+  if (!std::isfinite(s.mass) || s.mass < 0.0) {
+    throw std::invalid_argument("sphere mass " + std::to_string(s.mass) +
+                                " kg must be finite and >= 0 (0 = kinematic)");
+  }
+  if (!std::isfinite(s.restitution) || s.restitution < 0.0 || s.restitution > 1.0) {
+    throw std::invalid_argument("sphere restitution " + std::to_string(s.restitution) +
+                                " must be in [0, 1]");
+  }
+}
+
+/// Contact of one particle with one sphere over a step, in the frame that translates with the
+/// sphere: @p rel_start / @p rel_end are the particle relative to the old / new centre.
+/// Returns true and fixes @p rel_end if the relative path entered the sphere. @p surface_slip
+/// (m) is how far the spin moved the sphere's surface during the step, as a function of the
+/// contact normal: friction acts on the particle's slide relative to that surface.
+template <typename SurfaceSlip>
+bool collideSphere(const Vec3& rel_start, Vec3& rel_end, double radius, double mu,
+                   SurfaceSlip&& surface_slip) {
+  const double r2 = radius * radius;
+  const Vec3 path = rel_end - rel_start;
+  Vec3 corrected;
+  if (rel_start.squaredNorm() >= r2) {
+    // Started outside: first crossing of the path with the sphere, if any (continuous test).
+    const double t = sphereEntry(rel_start, path, radius);
+    if (t < 0.0) return false;
+    const Vec3 normal = (rel_start + t * path) / radius;
+    // Keep the motion along the tangent plane at the entry point, drop the part into it.
+    corrected = rel_end - std::min(0.0, (rel_end - (rel_start + t * path)).dot(normal)) * normal;
+  } else {
+    // Started inside (a sphere spawned or teleported onto the cloth, or a contact left
+    // slightly open): push out on the side where the particle was at the start, so a sphere
+    // that moves on cannot carry it through to its back.
+    if (rel_end.squaredNorm() >= r2) return false;
+    corrected = rel_start.squaredNorm() > 1e-24 ? rel_start : rel_end;
+  }
+  const double len = corrected.norm();
+  const Vec3 normal = len > 1e-12 ? Vec3(corrected / len) : Vec3::UnitZ();
+  corrected = radius * normal;  // on the surface
+  const double normal_correction = (corrected - rel_end).norm();
+  const Vec3 slip = surface_slip(normal);
+  const Vec3 moved = slip + applyFriction(corrected - rel_start - slip, normal, normal_correction, mu);
+  const Vec3 with_friction = rel_start + moved;
+  const double with_len = with_friction.norm();
+  rel_end = with_len > 1e-12 && with_len < radius ? Vec3(radius * with_friction / with_len)
+                                                  : with_friction;
+  return true;
+}
+
+/// Reaction accumulated on a dynamic sphere during one contact pass.
+struct SphereReaction {
+  Vec3 impulse = Vec3::Zero();          ///< N s
+  Vec3 angular_impulse = Vec3::Zero();  ///< N m s, about the centre
+};
+
+/// Spheres as candidates for a particle: all of them when few, else through a hash grid of their
+/// swept boxes (rebuilt every step), so many spheres do not cost particles x spheres.
+class SphereCandidates {
+ public:
+  SphereCandidates(const std::vector<SphereCollider>& spheres, double h) : spheres_(spheres) {
+    if (spheres.size() <= kDirect) return;
+    double largest = 0.0;
+    for (const auto& s : spheres) largest = std::max(largest, s.radius + h * s.velocity.norm());
+    hash_ = SpatialHash(2.0 * largest);
+    for (std::size_t k = 0; k < spheres.size(); ++k) hash_.insert(static_cast<int>(k), sweptBox(spheres[k], h));
+  }
+  template <typename Visit>
+  void forEach(const Vec3& a, const Vec3& b, Visit&& visit) const {
+    if (spheres_.size() <= kDirect) {
+      for (std::size_t k = 0; k < spheres_.size(); ++k) visit(k);
+      return;
+    }
+    Eigen::AlignedBox3d box;
+    box.extend(a).extend(b);
+    hash_.query(box, [&](int k) { visit(static_cast<std::size_t>(k)); });
+  }
+
+ private:
+  static constexpr std::size_t kDirect = 8;
+  static Eigen::AlignedBox3d sweptBox(const SphereCollider& s, double h) {
+    Eigen::AlignedBox3d box;
+    box.extend(s.center).extend(Vec3(s.center - h * s.velocity));
+    box.min().array() -= s.radius;
+    box.max().array() += s.radius;
+    return box;
+  }
+  const std::vector<SphereCollider>& spheres_;
+  SpatialHash hash_;
+};
+
+}  // namespace
+
+int Colliders::addSphere(const SphereCollider& sphere) {
+  checkSphere(sphere);
+  SphereCollider s = sphere;
+  s.id = next_id_++;
+  spheres_.push_back(s);
+  return s.id;
+}
+
+void Colliders::removeSphere(int id) {
+  auto it = std::find_if(spheres_.begin(), spheres_.end(),
+                         [id](const SphereCollider& s) { return s.id == id; });
+  if (it == spheres_.end()) throw std::invalid_argument("no sphere with id " + std::to_string(id));
+  spheres_.erase(it);
+}
+
+void Colliders::moveSphere(int id, const Vec3& center, const Vec3& velocity) {
+  auto it = std::find_if(spheres_.begin(), spheres_.end(),
+                         [id](const SphereCollider& s) { return s.id == id; });
+  if (it == spheres_.end()) throw std::invalid_argument("no sphere with id " + std::to_string(id));
+  SphereCollider moved = *it;
+  moved.center = center;
+  moved.velocity = velocity;
+  checkSphere(moved);
+  it->center = center;
+  it->velocity = velocity;
+}
+
+const SphereCollider* Colliders::findSphere(int id) const {
+  auto it = std::find_if(spheres_.begin(), spheres_.end(),
+                         [id](const SphereCollider& s) { return s.id == id; });
+  return it == spheres_.end() ? nullptr : &*it;
+}
+
+void Colliders::setGround(const GroundPlane& ground) {
+  if (!std::isfinite(ground.height)) throw std::invalid_argument("ground height must be finite");
+  if (!std::isfinite(ground.friction) || ground.friction < 0.0) {
+    throw std::invalid_argument("ground friction " + std::to_string(ground.friction) +
+                                " must be finite and >= 0");
+  }
+  ground_ = ground;
+}
+
+void Colliders::addMesh(std::shared_ptr<const MeshObstacle> mesh) {
+  if (!mesh) throw std::invalid_argument("mesh obstacle is null");
+  meshes_.push_back(std::move(mesh));
+}
+
+void Colliders::advance(double h, const Vec3& gravity, double decay) {
+  for (SphereCollider& s : spheres_) {
+    if (s.isDynamic()) {
+      s.velocity = decay * s.velocity + h * gravity;
+      s.angular_velocity *= decay;
+    }
+    s.center += h * s.velocity;
+  }
+}
+
+int resolveCollisions(Colliders& colliders, double h, const Eigen::VectorXd& mass,
+                      const std::vector<char>& movable, const Points& start, Points& end,
+                      Points& velocities, bool in_solve_contacts) {
+  int corrected = 0;
+  const GroundPlane& ground = colliders.ground();
+  std::vector<SphereCollider>& spheres = colliders.mutableSpheres();
+  std::vector<SphereReaction> reactions(spheres.size());
+  const SphereCandidates candidates(spheres, h);
+  for (Eigen::Index i = 0; i < end.cols(); ++i) {
+    if (!movable[i]) continue;
+    bool hit = false;
+    candidates.forEach(start.col(i), end.col(i), [&](std::size_t k) {
+      const SphereCollider& s = spheres[k];
+      const Vec3 old_center = s.center - h * s.velocity;
+      Vec3 rel_end = end.col(i) - s.center;
+      // A dynamic sphere's contacts were solved with the step (ContactForces), against its
+      // triangles linearised as half-spaces: leave the small overlap that linearisation allows
+      // (correcting it here fought the solved forces); catch only what the solve missed.
+      if (s.isDynamic() && in_solve_contacts && rel_end.norm() > (1.0 - kShallowOverlap) * s.radius &&
+          (start.col(i) - old_center).norm() > s.radius) {
+        return;
+      }
+      const auto slip = [&](const Vec3& n) { return Vec3(h * s.angular_velocity.cross(s.radius * n)); };
+      if (!collideSphere(start.col(i) - old_center, rel_end, s.radius, s.friction, slip)) return;
+      const Vec3 correction = s.center + rel_end - end.col(i);
+      if (s.isDynamic()) {
+        // Share the correction by mass; the sphere takes the opposite impulse (applied below).
+        const double share = s.mass / (s.mass + mass[i]);
+        const Vec3 impulse = mass[i] * share * correction / h;
+        reactions[k].impulse -= impulse;
+        reactions[k].angular_impulse -= rel_end.cross(impulse);
+        end.col(i) += share * correction;
+      } else {
+        end.col(i) += correction;
+      }
+      hit = true;
+    });
+    for (const auto& mesh : colliders.meshes()) {
+      Vec3 moved = end.col(i);
+      if (mesh->collide(start.col(i), moved)) {
+        end.col(i) = moved;
+        hit = true;
+      }
+    }
+    if (ground.enabled && end(2, i) < ground.height) {
+      const double depth = ground.height - end(2, i);
+      end(2, i) = ground.height;
+      end.col(i) = start.col(i) +
+                   applyFriction(end.col(i) - start.col(i), Vec3::UnitZ(), depth, ground.friction);
+      end(2, i) = std::max(end(2, i), ground.height);
+      hit = true;
+    }
+    if (hit) {
+      velocities.col(i) = (end.col(i) - start.col(i)) / h;
+      ++corrected;
+    }
+  }
+  for (std::size_t k = 0; k < spheres.size(); ++k) {
+    SphereCollider& s = spheres[k];
+    if (!s.isDynamic()) continue;
+    const Vec3 dv = reactions[k].impulse / s.mass;
+    s.velocity += dv;
+    s.center += h * dv;  // the position change that goes with the velocity change
+    s.angular_velocity += reactions[k].angular_impulse / s.inertia();
+    // The sphere's own move above may have brought it back into a particle by a fraction m/M of
+    // a correction: push such particles out fully; the sphere only takes the (tiny) impulse.
+    for (Eigen::Index i = 0; i < end.cols(); ++i) {
+      if (!movable[i]) continue;
+      const Vec3 d = end.col(i) - s.center;
+      const double dist = d.norm();
+      const double allowed = in_solve_contacts ? (1.0 - kShallowOverlap) * s.radius : s.radius;
+      if (dist >= allowed || dist < 1e-12) continue;
+      const Vec3 push = (allowed - dist) * d / dist;
+      end.col(i) += push;
+      velocities.col(i) = (end.col(i) - start.col(i)) / h;
+      s.velocity -= mass[i] * push / (h * s.mass);
+    }
+  }
+  return corrected;
+}
+
+}  // namespace cloth_sim

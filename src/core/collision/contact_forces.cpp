@@ -1,0 +1,241 @@
+#include "cloth_sim/core/collision/contact_forces.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "cloth_sim/core/collision/contact_projection.h"
+
+namespace cloth_sim {
+namespace {
+
+/// A point within this many radii of a sphere (along its relative path) becomes a candidate.
+constexpr double kMarginRadii = 0.5;
+/// Jacobi relaxation on top of mass splitting (contacts also share cloth around them).
+constexpr double kRelaxation = 0.5;
+
+/// Contact normal for a point whose path relative to a sphere of radius @p r goes from @p a to
+/// @p b; false if the path stays farther than @p reach from the centre.
+bool sweptNormal(const Vec3& a, const Vec3& b, double r, double reach, Vec3& normal, bool& swept) {
+  swept = false;
+  const Vec3 path = b - a;
+  const double len2 = path.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp(-a.dot(path) / len2, 0.0, 1.0) : 0.0;
+  if ((a + t * path).norm() > reach) return false;
+  // A sweep (the point moves by more than half a radius relative to the sphere, or would pass
+  // its centre): push it back out where it entered. A resting or rolling contact uses the
+  // radial direction: the entry point of a slow slide lies ahead of the contact and would tilt
+  // the force into a drag.
+  const bool sweep = std::sqrt(len2) > 0.5 * r || b.dot(a) <= 0.0;
+  if (sweep && a.squaredNorm() > r * r && len2 > 0.0) {
+    const double enter = sphereEntry(a, path, r);
+    if (enter >= 0.0) {
+      normal = (a + enter * path).normalized();
+      swept = true;
+      return true;
+    }
+  }
+  if (b.norm() > 1e-12) normal = b.normalized();
+  else normal = a.norm() > 1e-12 ? Vec3(a.normalized()) : Vec3::UnitZ();
+  return true;
+}
+
+/// Barycentric weights of @p q, a point of triangle (a, b, c).
+std::array<double, 3> barycentric(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 v0 = b - a, v1 = c - a, v2 = q - a;
+  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1);
+  const double d20 = v2.dot(v0), d21 = v2.dot(v1), den = d00 * d11 - d01 * d01;
+  if (!(std::abs(den) > 0.0)) return {1.0, 0.0, 0.0};
+  const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
+  return {std::max(0.0, 1.0 - v - w), std::max(0.0, v), std::max(0.0, w)};
+}
+
+}  // namespace
+
+void ContactForces::addCandidates(std::size_t k, const Model& model, const Points& start,
+                                  const Points& y) {
+  const Body& body = bodies_[k];
+  const double reach = body.radius * (1.0 + kMarginRadii);
+  Eigen::AlignedBox3d swept;
+  swept.extend(body.old).extend(body.predicted);
+  swept.min().array() -= reach;
+  swept.max().array() += reach;
+  std::set<std::array<int, 3>> seen;  // a feature (vertex, edge, face) shared by triangles
+  auto consider = [&](const std::array<int, 3>& v, int count) {
+    for (int j = 0; j < count; ++j) {
+      if (!(*movable_)[v[j]]) return;  // a pinned vertex cannot be pushed
+    }
+    Eigen::AlignedBox3d box;
+    for (int j = 0; j < count; ++j) box.extend(Vec3(start.col(v[j]))).extend(Vec3(y.col(v[j])));
+    if (!box.intersects(swept)) return;
+    Contact c{v, {1.0, 0.0, 0.0}, static_cast<int>(k), Vec3::UnitZ(), 0.0, 0.0};
+    if (count == 3) {
+      // The triangle's point closest to the sphere, as barycentric weights for the step.
+      const Vec3 q = closestPointOnTriangle(body.predicted, y.col(v[0]), y.col(v[1]), y.col(v[2]));
+      c.weight = barycentric(q, y.col(v[0]), y.col(v[1]), y.col(v[2]));
+    }
+    std::array<int, 3> feature{-1, -1, -1};
+    for (int j = 0, n = 0; j < 3; ++j) {
+      if (c.weight[j] > 1e-9) feature[n++] = c.vertex[j];
+      else c.weight[j] = 0.0;
+    }
+    std::sort(feature.begin(), feature.end());
+    if (!seen.insert(feature).second) return;
+    Vec3 at_start = Vec3::Zero(), at_end = Vec3::Zero();
+    for (int j = 0; j < 3; ++j) {
+      at_start += c.weight[j] * start.col(c.vertex[j]);
+      at_end += c.weight[j] * y.col(c.vertex[j]);
+    }
+    if (!sweptNormal(at_start - body.old, at_end - body.predicted, body.radius, reach, c.normal,
+                     c.sweep)) {
+      return;
+    }
+    c.triangle = count == 3;
+    contacts_.push_back(c);
+  };
+  if (model.triangles.cols() > 0) {
+    for (Eigen::Index t = 0; t < model.triangles.cols(); ++t) {
+      consider({model.triangles(0, t), model.triangles(1, t), model.triangles(2, t)}, 3);
+    }
+  } else {
+    for (Eigen::Index i = 0; i < y.cols(); ++i) consider({static_cast<int>(i), 0, 0}, 1);
+  }
+}
+
+void ContactForces::begin(const Model& model, const Points& start, const Points& y,
+                          const Eigen::VectorXd& compliance) {
+  h_ = model.time_step;
+  contacts_.clear();
+  bodies_.clear();
+  for (const SphereCollider& s : colliders_->spheres()) {
+    // Colliders::advance already moved each sphere to its free end-of-step position.
+    bodies_.push_back(Body{s.id, s.radius, s.isDynamic() ? 1.0 / s.mass : 0.0, s.center,
+                           Vec3(s.center - h_ * s.velocity), s.center, s.angular_velocity,
+                           s.isDynamic() ? 1.0 / s.inertia() : 0.0, s.friction});
+  }
+  for (std::size_t k = 0; k < bodies_.size(); ++k) {
+    // Still colliders keep the post-solve projection, which suffices without a reaction.
+    if (bodies_[k].inv_mass > 0.0) addCandidates(k, model, start, y);
+  }
+  // Mass splitting: count the contacts sharing each vertex and each sphere.
+  std::vector<int> per_vertex(y.cols(), 0), per_body(bodies_.size(), 0);
+  for (const Contact& c : contacts_) {
+    ++per_body[c.body];
+    for (int j = 0; j < 3; ++j) {
+      if (c.weight[j] > 0.0) ++per_vertex[c.vertex[j]];
+    }
+  }
+  for (Contact& c : contacts_) {
+    c.start = Vec3::Zero();
+    for (int j = 0; j < 3; ++j) c.start += c.weight[j] * start.col(c.vertex[j]);
+    c.compliance = per_body[c.body] * bodies_[c.body].inv_mass;
+    for (int j = 0; j < 3; ++j) {
+      if (c.weight[j] > 0.0) {
+        c.compliance += c.weight[j] * c.weight[j] * per_vertex[c.vertex[j]] * compliance[c.vertex[j]];
+      }
+    }
+    // Warm start from last step's force on each touched vertex, shared among this step's
+    // contacts on it: continuous when a contact moves between a vertex and a face.
+    c.lambda = 0.0;
+    for (int j = 0; j < 3; ++j) {
+      if (c.weight[j] <= 0.0) continue;
+      const auto it = vertex_force_.find({bodies_[c.body].id, c.vertex[j]});
+      if (it != vertex_force_.end()) c.lambda += c.weight[j] * it->second / per_vertex[c.vertex[j]];
+    }
+  }
+  placeBodies();
+}
+
+void ContactForces::placeBodies() {
+  for (Body& b : bodies_) b.center = b.predicted;
+  for (const Contact& c : contacts_) {
+    Body& b = bodies_[c.body];
+    b.center -= (h_ * h_ * b.inv_mass) * (c.lambda * c.normal + c.friction);
+  }
+}
+
+double ContactForces::gap(const Contact& c, const Points& x) const {
+  Vec3 point = Vec3::Zero();
+  for (int j = 0; j < 3; ++j) {
+    if (c.weight[j] > 0.0) point += c.weight[j] * x.col(c.vertex[j]);
+  }
+  const Body& b = bodies_[c.body];
+  // Along the contact's normal: the sphere linearised at the last iterate (relinearize).
+  return (point - b.center).dot(c.normal) - b.radius;
+}
+
+void ContactForces::relinearize(Contact& c, const Points& x) const {
+  // Re-linearise a resting/rolling contact at the current iterate: the triangle's closest point
+  // and the radial normal. Sweep contacts keep their entry normal for the whole step.
+  if (c.sweep) return;
+  const Body& b = bodies_[c.body];
+  if (c.triangle) {
+    const Vec3 q = closestPointOnTriangle(b.center, x.col(c.vertex[0]), x.col(c.vertex[1]),
+                                          x.col(c.vertex[2]));
+    c.weight = barycentric(q, x.col(c.vertex[0]), x.col(c.vertex[1]), x.col(c.vertex[2]));
+  }
+  Vec3 point = Vec3::Zero();
+  for (int j = 0; j < 3; ++j) point += c.weight[j] * x.col(c.vertex[j]);
+  const Vec3 d = point - b.center;
+  if (d.norm() > 1e-12) c.normal = d.normalized();
+}
+
+void ContactForces::update(const Points& x) {
+  const double h2 = h_ * h_;
+  for (Contact& c : contacts_) relinearize(c, x);
+  for (Contact& c : contacts_) {
+    c.lambda = std::max(0.0, c.lambda - kRelaxation * gap(c, x) / (h2 * c.compliance));
+    const Body& b = bodies_[c.body];
+    if (b.friction <= 0.0) continue;
+    // Slip of the contact point over the step, relative to the sphere's surface point.
+    Vec3 point = Vec3::Zero();
+    for (int j = 0; j < 3; ++j) point += c.weight[j] * x.col(c.vertex[j]);
+    const Vec3 slip = (point - c.start) - (b.center - b.old) -
+                      h_ * b.spin.cross(b.radius * c.normal);
+    const Vec3 tangential = slip - slip.dot(c.normal) * c.normal;
+    // The spin's response adds r^2 / I (r = radius) to the tangential compliance.
+    const double compliance =
+        c.compliance + b.radius * b.radius * b.inv_inertia;
+    c.friction -= kRelaxation * tangential / (h2 * compliance);
+    c.friction -= c.friction.dot(c.normal) * c.normal;
+    const double cap = b.friction * c.lambda, size = c.friction.norm();
+    if (size > cap) c.friction *= cap / size;
+  }
+  placeBodies();
+}
+
+void ContactForces::addForces(Points& rhs) const {
+  const double h2 = h_ * h_;
+  for (const Contact& c : contacts_) {
+    if (c.lambda <= 0.0) continue;
+    const Vec3 force = c.lambda * c.normal + c.friction;
+    for (int j = 0; j < 3; ++j) {
+      if (c.weight[j] > 0.0) rhs.col(c.vertex[j]) += (h2 * c.weight[j]) * force;
+    }
+  }
+}
+
+void ContactForces::finish(Colliders& colliders) {
+  std::vector<SphereCollider>& spheres = colliders.mutableSpheres();
+  std::vector<Vec3> torque(bodies_.size(), Vec3::Zero());
+  for (const Contact& c : contacts_) {
+    // The cloth pushes the sphere with -(lambda n + friction) at r n from its centre.
+    torque[c.body] += (bodies_[c.body].radius * c.normal).cross(-c.friction);
+  }
+  for (std::size_t k = 0; k < bodies_.size(); ++k) {
+    if (bodies_[k].inv_mass == 0.0) continue;
+    const Vec3 shift = bodies_[k].center - spheres[k].center;
+    spheres[k].center = bodies_[k].center;
+    spheres[k].velocity += shift / h_;
+    spheres[k].angular_velocity += h_ * bodies_[k].inv_inertia * torque[k];
+  }
+  vertex_force_.clear();
+  for (const Contact& c : contacts_) {
+    if (c.lambda <= 0.0) continue;
+    for (int j = 0; j < 3; ++j) {
+      if (c.weight[j] > 0.0) vertex_force_[{bodies_[c.body].id, c.vertex[j]}] += c.lambda * c.weight[j];
+    }
+  }
+}
+
+}  // namespace cloth_sim

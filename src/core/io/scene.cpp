@@ -1,0 +1,500 @@
+#include "cloth_sim/core/io/scene.h"
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "cloth_sim/core/model/grid_builder.h"
+
+namespace cloth_sim {
+
+SceneError::SceneError(const std::string& source, const std::string& field,
+                       const std::string& problem)
+    : std::runtime_error(source + ": " + (field.empty() ? "" : "field '" + field + "': ") + problem),
+      field_(field) {}
+
+namespace {
+
+/// Reads typed values out of YAML nodes, failing with the field's dotted path.
+class Reader {
+ public:
+  explicit Reader(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
+    throw SceneError(source_, path, problem);
+  }
+
+  static std::string show(const YAML::Node& node) {
+    YAML::Emitter out;
+    out << YAML::Flow << node;
+    return out.c_str();
+  }
+
+  /// Checks that @p node is a map whose keys are all in @p known.
+  void map(const YAML::Node& node, const std::string& path,
+           const std::set<std::string>& known) const {
+    if (!node.IsMap()) fail(path, "value " + show(node) + " must be a map");
+    for (const auto& kv : node) {
+      const std::string key = kv.first.as<std::string>();
+      if (known.count(key) == 0) {
+        std::string list;
+        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+        fail(join(path, key), "unknown field (known here: " + list + ")");
+      }
+    }
+  }
+
+  static std::string join(const std::string& path, const std::string& key) {
+    return path.empty() ? key : path + "." + key;
+  }
+
+  /// A finite number; also accepts a fraction written "a/b" (e.g. time_step: 1/60).
+  double number(const YAML::Node& node, const std::string& path) const {
+    if (!node.IsScalar()) fail(path, "value " + show(node) + " must be a number");
+    const std::string text = node.Scalar();
+    double value = 0.0;
+    const auto slash = text.find('/');
+    try {
+      if (slash != std::string::npos) {
+        std::size_t used_a = 0, used_b = 0;
+        const std::string a = text.substr(0, slash), b = text.substr(slash + 1);
+        const double num = std::stod(a, &used_a), den = std::stod(b, &used_b);
+        if (used_a != a.size() || used_b != b.size()) throw std::invalid_argument("fraction");
+        value = num / den;
+      } else {
+        value = node.as<double>();
+      }
+    } catch (const std::exception&) {
+      fail(path, "value '" + text + "' must be a number");
+    }
+    if (!std::isfinite(value)) fail(path, "value '" + text + "' must be finite");
+    return value;
+  }
+
+  /// A number that satisfies @p ok, else fails with "value V must be RULE".
+  template <typename Ok>
+  double number(const YAML::Node& node, const std::string& path, Ok ok,
+                const std::string& rule) const {
+    const double v = number(node, path);
+    if (!ok(v)) fail(path, "value " + show(node) + " must be " + rule);
+    return v;
+  }
+
+  int integer(const YAML::Node& node, const std::string& path, long lo, long hi) const {
+    const std::string rule = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+    long value = 0;
+    if (!node.IsScalar()) fail(path, "value " + show(node) + " must be " + rule);
+    try {
+      value = node.as<long>();
+    } catch (const std::exception&) {
+      fail(path, "value " + show(node) + " must be " + rule);
+    }
+    if (value < lo || value > hi) fail(path, "value " + show(node) + " must be " + rule);
+    return static_cast<int>(value);
+  }
+
+  Vec3 vec3(const YAML::Node& node, const std::string& path) const {
+    if (!node.IsSequence() || node.size() != 3) {
+      fail(path, "value " + show(node) + " must be a list of 3 numbers [x, y, z]");
+    }
+    Vec3 v;
+    for (int k = 0; k < 3; ++k) v[k] = number(node[k], path + "[" + std::to_string(k) + "]");
+    return v;
+  }
+
+  std::string text(const YAML::Node& node, const std::string& path) const {
+    if (!node.IsScalar()) fail(path, "value " + show(node) + " must be a string");
+    return node.Scalar();
+  }
+
+  const std::string& source() const { return source_; }
+
+  /// @p file as given if absolute, else relative to the directory of the scene file.
+  std::string resolve(const std::string& file) const {
+    if (!file.empty() && file[0] == '/') return file;
+    const auto slash = source_.find_last_of('/');
+    return slash == std::string::npos ? file : source_.substr(0, slash + 1) + file;
+  }
+
+ private:
+  std::string source_;
+};
+
+const auto kPositive = [](double v) { return v > 0.0; };
+const auto kNonNegative = [](double v) { return v >= 0.0; };
+
+void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& options) {
+  const std::string path = "solver";
+  r.map(node, path, {"name", "iterations", "tolerance", "chebyshev", "anderson", "lbfgs"});
+  if (node["name"]) {
+    options.solver = r.text(node["name"], path + ".name");
+    try {
+      makeSolver(options.solver);
+    } catch (const std::invalid_argument& e) {
+      r.fail(path + ".name", e.what());
+    }
+  }
+  SolverSettings& s = options.settings;
+  if (node["iterations"]) s.max_iterations = r.integer(node["iterations"], path + ".iterations", 1, 100000);
+  if (node["tolerance"]) {
+    s.tolerance = r.number(node["tolerance"], path + ".tolerance", kNonNegative, ">= 0");
+  }
+  if (const YAML::Node c = node["chebyshev"]) {
+    const std::string cp = path + ".chebyshev";
+    r.map(c, cp, {"rho", "gamma", "delay"});
+    if (c["rho"]) {
+      s.chebyshev_rho = r.number(c["rho"], cp + ".rho", [](double v) { return v >= 0 && v < 1; },
+                                 "in [0, 1) (0 = measure it)");
+    }
+    if (c["gamma"]) {
+      s.chebyshev_gamma = r.number(c["gamma"], cp + ".gamma",
+                                   [](double v) { return v > 0 && v <= 1; }, "in (0, 1]");
+    }
+    if (c["delay"]) s.chebyshev_delay = r.integer(c["delay"], cp + ".delay", 1, 1000);
+  }
+  if (const YAML::Node a = node["anderson"]) {
+    const std::string ap = path + ".anderson";
+    r.map(a, ap, {"window"});
+    if (a["window"]) s.anderson_window = r.integer(a["window"], ap + ".window", 1, 50);
+  }
+  if (const YAML::Node l = node["lbfgs"]) {
+    const std::string lp = path + ".lbfgs";
+    r.map(l, lp, {"window"});
+    if (l["window"]) s.lbfgs_window = r.integer(l["window"], lp + ".window", 1, 50);
+  }
+}
+
+/// position [m] and orientation_rpy [rad] (fixed-axis roll about X, then pitch about Y, then yaw
+/// about Z, REP-103), both optional.
+Eigen::Isometry3d readPose(const Reader& r, const YAML::Node& node, const std::string& path) {
+  Vec3 position = Vec3::Zero(), rpy = Vec3::Zero();
+  if (node["position"]) position = r.vec3(node["position"], path + ".position");
+  if (node["orientation_rpy"]) rpy = r.vec3(node["orientation_rpy"], path + ".orientation_rpy");
+  return Eigen::Translation3d(position) * Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) *
+         Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) * Eigen::AngleAxisd(rpy.x(), Vec3::UnitX());
+}
+
+/// An OBJ file placed in the world: file (relative to the scene), position, orientation_rpy,
+/// scale. Errors from the file are reported on the 'file' field.
+TriangleMesh readPlacedMesh(const Reader& r, const YAML::Node& node, const std::string& path,
+                            std::string& resolved) {
+  if (!node["file"]) r.fail(path + ".file", "is required (an OBJ file)");
+  resolved = r.resolve(r.text(node["file"], path + ".file"));
+  double scale = 1.0;
+  if (node["scale"]) scale = r.number(node["scale"], path + ".scale", kPositive, "> 0");
+  try {
+    return loadObj(resolved).transformed(readPose(r, node, path), scale);
+  } catch (const std::invalid_argument& e) {
+    r.fail(path + ".file", e.what());
+  }
+}
+
+void readClothMesh(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
+  const std::string path = "cloth.mesh";
+  r.map(node, path, {"file", "position", "orientation_rpy", "scale"});
+  std::string resolved;
+  scene.mesh.mesh = readPlacedMesh(r, node, path, resolved);
+  scene.mesh.source = resolved;
+  try {
+    validateClothSurface(scene.mesh.mesh, resolved);
+  } catch (const std::invalid_argument& e) {
+    r.fail(path + ".file", e.what());
+  }
+  scene.cloth_kind = SceneConfig::ClothKind::kMesh;
+}
+
+void readGrid(const Reader& r, const YAML::Node& node, GridSpec& grid) {
+  const std::string path = "cloth.grid";
+  r.map(node, path, {"rows", "cols", "size", "position", "orientation_rpy"});
+  if (!node["rows"]) r.fail(path + ".rows", "is required");
+  if (!node["cols"]) r.fail(path + ".cols", "is required");
+  if (!node["size"]) r.fail(path + ".size", "is required ([width, height] in m)");
+  grid.rows = r.integer(node["rows"], path + ".rows", 2, 2000);
+  grid.cols = r.integer(node["cols"], path + ".cols", 2, 2000);
+  const YAML::Node size = node["size"];
+  if (!size.IsSequence() || size.size() != 2) {
+    r.fail(path + ".size", "value " + Reader::show(size) + " must be [width, height] in m");
+  }
+  grid.width = r.number(size[0], path + ".size[0]", kPositive, "> 0 (width, m)");
+  grid.height = r.number(size[1], path + ".size[1]", kPositive, "> 0 (height, m)");
+  grid.pose = readPose(r, node, path);
+}
+
+void readMaterial(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
+  const std::string path = "material";
+  r.map(node, path, {"areal_density", "damping", "springs", "shear_pattern"});
+  GridSpec& grid = scene.grid;
+  if (node["areal_density"]) {
+    grid.areal_density =
+        r.number(node["areal_density"], path + ".areal_density", kPositive, "> 0 kg/m^2");
+  }
+  if (node["damping"]) {
+    scene.damping = r.number(node["damping"], path + ".damping", kNonNegative, ">= 0 (1/s)");
+  }
+  if (!node["springs"]) r.fail(path + ".springs", "is required (stiffness per family, N/m)");
+  const YAML::Node springs = node["springs"];
+  const std::string sp = path + ".springs";
+  r.map(springs, sp, {"structural", "shear", "bending"});
+  auto family = [&](const char* key, bool& has, double& k) {
+    has = static_cast<bool>(springs[key]);
+    if (has) k = r.number(springs[key], sp + "." + key, kNonNegative, ">= 0 N/m");
+  };
+  family("structural", grid.has_structural, grid.structural);
+  family("shear", grid.has_shear, grid.shear);
+  family("bending", grid.has_bending, grid.bending);
+  if (!grid.has_structural && !grid.has_shear && !grid.has_bending) {
+    r.fail(sp, "must declare at least one family (structural, shear, bending)");
+  }
+  if (node["shear_pattern"]) {
+    const std::string p = r.text(node["shear_pattern"], path + ".shear_pattern");
+    if (p == "both") grid.shear_pattern = ShearPattern::kBoth;
+    else if (p == "triangle") grid.shear_pattern = ShearPattern::kTriangle;
+    else r.fail(path + ".shear_pattern", "value '" + p + "' must be 'both' or 'triangle'");
+  }
+  if (scene.cloth_kind == SceneConfig::ClothKind::kMesh) {
+    const std::string why = "a mesh cloth has springs on its edges (structural) and across them "
+                            "(bending) only";
+    if (grid.has_shear) r.fail(sp + ".shear", why);
+    if (node["shear_pattern"]) r.fail(path + ".shear_pattern", why);
+    MeshSpec& mesh = scene.mesh;
+    mesh.areal_density = grid.areal_density;
+    mesh.has_structural = grid.has_structural;
+    mesh.structural = grid.structural;
+    mesh.has_bending = grid.has_bending;
+    mesh.bending = grid.bending;
+  }
+}
+
+/// Vertices of a grid edge: "top" (row 0), "bottom", "left" (col 0), "right" or "all".
+std::vector<int> edgeVertices(const GridSpec& g, const std::string& edge) {
+  std::vector<int> out;
+  const bool all = edge == "all";
+  for (int r = 0; r < g.rows; ++r) {
+    for (int c = 0; c < g.cols; ++c) {
+      if ((all || edge == "top") && r == 0) out.push_back(gridVertex(r, c, g.cols));
+      else if ((all || edge == "bottom") && r == g.rows - 1) out.push_back(gridVertex(r, c, g.cols));
+      else if ((all || edge == "left") && c == 0) out.push_back(gridVertex(r, c, g.cols));
+      else if ((all || edge == "right") && c == g.cols - 1) out.push_back(gridVertex(r, c, g.cols));
+    }
+  }
+  return out;
+}
+
+/// Vertices whose rest position lies in the box {min: [x,y,z], max: [x,y,z]} (m, world).
+std::vector<int> regionVertices(const Reader& r, const YAML::Node& node, const std::string& path,
+                                const Points& rest) {
+  r.map(node, path, {"min", "max"});
+  if (!node["min"] || !node["max"]) r.fail(path, "needs 'min' and 'max' corners [x, y, z] in m");
+  const Eigen::AlignedBox3d box(r.vec3(node["min"], path + ".min"), r.vec3(node["max"], path + ".max"));
+  if (box.isEmpty()) r.fail(path, "'min' must not exceed 'max' on any axis");
+  std::vector<int> out;
+  for (Eigen::Index v = 0; v < rest.cols(); ++v) {
+    if (box.contains(Vec3(rest.col(v)))) out.push_back(static_cast<int>(v));
+  }
+  if (out.empty()) r.fail(path, "contains no vertex of the cloth");
+  return out;
+}
+
+void readPins(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
+  if (!node.IsSequence()) r.fail("pins", "value " + Reader::show(node) + " must be a list");
+  const bool grid = scene.cloth_kind == SceneConfig::ClothKind::kGrid;
+  const GridSpec& g = scene.grid;
+  const Points rest = buildCloth(scene).rest_positions;
+  std::set<int> used;
+  for (std::size_t k = 0; k < node.size(); ++k) {
+    const std::string path = "pins[" + std::to_string(k) + "]";
+    const YAML::Node p = node[k];
+    r.map(p, path, {"vertex", "row", "col", "edge", "region", "target", "stiffness"});
+    const bool by_cell = p["row"] || p["col"];
+    const int ways = (p["vertex"] ? 1 : 0) + (by_cell ? 1 : 0) + (p["edge"] ? 1 : 0) +
+                     (p["region"] ? 1 : 0);
+    if (ways != 1) {
+      r.fail(path, "give exactly one of 'vertex', 'row' + 'col', 'edge' or 'region'");
+    }
+    if (!grid && (by_cell || p["edge"])) {
+      r.fail(path, "'row', 'col' and 'edge' need a grid cloth; use 'vertex' or 'region'");
+    }
+    double stiffness = 0.0;
+    if (p["stiffness"]) {
+      stiffness = r.number(p["stiffness"], path + ".stiffness", kNonNegative,
+                           ">= 0 N/m (0 = hard pin)");
+    }
+    if (p["edge"] || p["region"]) {
+      if (p["target"]) r.fail(path + ".target", "is only allowed for a single-vertex pin");
+      std::vector<int> vertices;
+      if (p["region"]) {
+        vertices = regionVertices(r, p["region"], path + ".region", rest);
+      } else {
+        const std::string edge = r.text(p["edge"], path + ".edge");
+        if (edge != "top" && edge != "bottom" && edge != "left" && edge != "right" && edge != "all") {
+          r.fail(path + ".edge", "value '" + edge + "' must be top, bottom, left, right or all");
+        }
+        vertices = edgeVertices(g, edge);
+      }
+      // Vertices already pinned by an earlier entry (shared corners) are pinned once.
+      for (int v : vertices) {
+        if (used.insert(v).second) scene.pins.push_back(PinSpec{v, std::nullopt, stiffness});
+      }
+      continue;
+    }
+    PinSpec pin;
+    pin.stiffness = stiffness;
+    if (p["vertex"]) {
+      pin.vertex = r.integer(p["vertex"], path + ".vertex", 0, static_cast<long>(rest.cols()) - 1);
+    } else {
+      if (!p["row"] || !p["col"]) r.fail(path, "give both 'row' and 'col'");
+      pin.vertex = gridVertex(r.integer(p["row"], path + ".row", 0, g.rows - 1),
+                              r.integer(p["col"], path + ".col", 0, g.cols - 1), g.cols);
+    }
+    if (!used.insert(pin.vertex).second) {
+      r.fail(path, "vertex " + std::to_string(pin.vertex) + " is already pinned");
+    }
+    if (p["target"]) pin.target = r.vec3(p["target"], path + ".target");
+    scene.pins.push_back(pin);
+  }
+}
+
+void readMeshColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
+  if (!node.IsSequence()) r.fail("colliders.meshes", "must be a list");
+  for (std::size_t k = 0; k < node.size(); ++k) {
+    const std::string path = "colliders.meshes[" + std::to_string(k) + "]";
+    const YAML::Node m = node[k];
+    r.map(m, path, {"file", "position", "orientation_rpy", "scale", "thickness", "friction"});
+    MeshColliderSpec spec;
+    TriangleMesh mesh = readPlacedMesh(r, m, path, spec.file);
+    double thickness = 0.005, friction = 0.0;
+    if (m["thickness"]) thickness = r.number(m["thickness"], path + ".thickness", kPositive, "> 0 m");
+    if (m["friction"]) friction = r.number(m["friction"], path + ".friction", kNonNegative, ">= 0");
+    try {
+      spec.obstacle = std::make_shared<const MeshObstacle>(std::move(mesh), thickness, friction);
+    } catch (const std::invalid_argument& e) {
+      r.fail(path + ".file", e.what());
+    }
+    scene.meshes.push_back(std::move(spec));
+  }
+}
+
+void readColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
+  r.map(node, "colliders", {"spheres", "meshes", "ground"});
+  if (node["meshes"]) readMeshColliders(r, node["meshes"], scene);
+  if (const YAML::Node spheres = node["spheres"]) {
+    if (!spheres.IsSequence()) r.fail("colliders.spheres", "must be a list");
+    for (std::size_t k = 0; k < spheres.size(); ++k) {
+      const std::string path = "colliders.spheres[" + std::to_string(k) + "]";
+      const YAML::Node s = spheres[k];
+      r.map(s, path, {"center", "radius", "velocity", "friction", "mass", "restitution"});
+      if (!s["center"]) r.fail(path + ".center", "is required");
+      if (!s["radius"]) r.fail(path + ".radius", "is required");
+      SphereCollider sphere;
+      sphere.center = r.vec3(s["center"], path + ".center");
+      sphere.radius = r.number(s["radius"], path + ".radius", kPositive, "> 0 m");
+      if (s["velocity"]) sphere.velocity = r.vec3(s["velocity"], path + ".velocity");
+      if (s["friction"]) {
+        sphere.friction = r.number(s["friction"], path + ".friction", kNonNegative, ">= 0");
+      }
+      if (s["mass"]) {
+        sphere.mass = r.number(s["mass"], path + ".mass", kNonNegative, ">= 0 kg (0 = kinematic)");
+      }
+      if (s["restitution"]) {
+        sphere.restitution = r.number(s["restitution"], path + ".restitution",
+                                      [](double v) { return v >= 0.0 && v <= 1.0; }, "in [0, 1]");
+      }
+      scene.spheres.push_back(sphere);
+    }
+  }
+  if (const YAML::Node ground = node["ground"]) {
+    r.map(ground, "colliders.ground", {"height", "friction"});
+    scene.ground.enabled = true;
+    if (ground["height"]) scene.ground.height = r.number(ground["height"], "colliders.ground.height");
+    if (ground["friction"]) {
+      scene.ground.friction =
+          r.number(ground["friction"], "colliders.ground.friction", kNonNegative, ">= 0");
+    }
+  }
+}
+
+}  // namespace
+
+SceneConfig parseScene(const std::string& yaml_text, const std::string& source) {
+  const Reader r(source);
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw SceneError(source, "", std::string("YAML syntax error: ") + e.what());
+  }
+  if (!root.IsMap()) r.fail("", "a scene must be a YAML map of fields");
+  r.map(root, "", {"name", "description", "time_step", "gravity", "solver", "cloth", "material",
+                   "pins", "colliders", "divergence_strain"});
+
+  SceneConfig scene;
+  scene.source = source;
+  if (root["name"]) scene.name = r.text(root["name"], "name");
+  if (root["description"]) scene.description = r.text(root["description"], "description");
+  if (root["time_step"]) {
+    scene.time_step = r.number(root["time_step"], "time_step",
+                               [](double v) { return v > 0 && v <= 1.0; }, "in (0, 1] s");
+  }
+  if (root["gravity"]) scene.gravity = r.vec3(root["gravity"], "gravity");
+  if (root["solver"]) readSolver(r, root["solver"], scene.options);
+  if (root["divergence_strain"]) {
+    scene.options.divergence_strain =
+        r.number(root["divergence_strain"], "divergence_strain", kPositive, "> 0");
+  }
+  if (!root["cloth"]) r.fail("cloth", "is required");
+  const YAML::Node cloth = root["cloth"];
+  r.map(cloth, "cloth", {"grid", "mesh"});
+  if (static_cast<bool>(cloth["grid"]) == static_cast<bool>(cloth["mesh"])) {
+    r.fail("cloth", "give exactly one of 'grid' or 'mesh'");
+  }
+  if (cloth["grid"]) readGrid(r, cloth["grid"], scene.grid);
+  else readClothMesh(r, cloth["mesh"], scene);
+  if (!root["material"]) r.fail("material", "is required");
+  readMaterial(r, root["material"], scene);
+  if (root["pins"]) readPins(r, root["pins"], scene);
+  if (root["colliders"]) readColliders(r, root["colliders"], scene);
+  return scene;
+}
+
+SceneConfig loadSceneFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw SceneError(path, "", "cannot open the file");
+  std::stringstream text;
+  text << in.rdbuf();
+  SceneConfig scene = parseScene(text.str(), path);
+  if (scene.name.empty()) {
+    const auto slash = path.find_last_of('/');
+    std::string stem = path.substr(slash == std::string::npos ? 0 : slash + 1);
+    scene.name = stem.substr(0, stem.rfind('.'));
+  }
+  return scene;
+}
+
+BuiltObject buildCloth(const SceneConfig& scene) {
+  BuiltObject object = scene.cloth_kind == SceneConfig::ClothKind::kGrid ? buildGrid(scene.grid)
+                                                                         : buildMeshObject(scene.mesh);
+  object.model.time_step = scene.time_step;
+  object.model.gravity = scene.gravity;
+  object.model.damping = scene.damping;
+  return object;
+}
+
+Simulation makeSimulation(const SceneConfig& scene) {
+  BuiltObject object = buildCloth(scene);
+  PinSet pins;
+  for (const PinSpec& p : scene.pins) {
+    pins.add(p.vertex, p.target.value_or(Vec3(object.rest_positions.col(p.vertex))), p.stiffness,
+             object.model.particleCount());
+  }
+  Colliders colliders;
+  for (const SphereCollider& s : scene.spheres) colliders.addSphere(s);
+  for (const MeshColliderSpec& m : scene.meshes) colliders.addMesh(m.obstacle);
+  colliders.setGround(scene.ground);
+  return Simulation(std::move(object.model), object.rest_positions, std::move(pins),
+                    std::move(colliders), scene.options);
+}
+
+}  // namespace cloth_sim

@@ -1,0 +1,102 @@
+#include "cloth_sim/core/solvers/local_global/global_system.h"
+
+#include <numeric>
+#include <stdexcept>
+
+
+namespace cloth_sim {
+
+void GlobalSystem::factor(const Eigen::SparseMatrix<double>& a, LinearSolver backend) {
+  backend_ = backend;
+  const int n = static_cast<int>(a.rows());
+  order_.resize(n);
+  std::iota(order_.begin(), order_.end(), 0);
+  supernodal_ = SupernodalFactor{};
+  columns_.resize(n, 3);
+  solution_.resize(n, 3);
+  factor_nonzeros_ = 0;
+  if (n == 0) return;  // everything pinned: nothing to solve
+  bool ok = true;
+  if (backend == LinearSolver::kEigen) {
+    eigen_.compute(a);
+    ok = eigen_.info() == Eigen::Success;
+    if (ok) factor_nonzeros_ = Eigen::SparseMatrix<double>(eigen_.matrixL()).nonZeros();
+  } else {
+    ok = cholmod_.compute(a);
+    factor_nonzeros_ = static_cast<long>(cholmod_.factorNonZeros());
+    if (ok && backend == LinearSolver::kFused) {
+      supernodal_ = makeSupernodal(cholmod_.exportLower());
+      order_ = supernodal_.permutation;
+    }
+  }
+  if (!ok) throw std::runtime_error("global step matrix is not positive definite");
+}
+
+void GlobalSystem::solveInPlace(double* x) {
+  const int n = size();
+  if (n == 0) return;
+  if (backend_ == LinearSolver::kFused) {
+    solveFused3(supernodal_, x);
+    return;
+  }
+  for (int k = 0; k < n; ++k)
+    for (int c = 0; c < 3; ++c) columns_(k, c) = x[kNodeStride * k + c];
+  if (backend_ == LinearSolver::kEigen) {
+    solution_ = eigen_.solve(columns_);
+  } else {
+    cholmod_.solveInPlace(columns_.data(), 3);
+    solution_.swap(columns_);
+  }
+  for (int k = 0; k < n; ++k)
+    for (int c = 0; c < 3; ++c) x[kNodeStride * k + c] = solution_(k, c);
+}
+
+Eigen::SparseMatrix<double> globalStepMatrix(const Model& model, const PinSet& pins,
+                                             const FreeParticleMap& dofs) {
+  const Springs& springs = model.springs;
+  const double h2 = model.time_step * model.time_step;
+  const int nf = dofs.freeCount();
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(nf + 4 * springs.size() + pins.size());
+  for (int f = 0; f < nf; ++f) entries.emplace_back(f, f, model.mass[dofs.free_particles[f]]);
+  for (const Pin& pin : pins.pins()) {
+    if (pin.isHard()) continue;
+    const int f = dofs.reduced_index[pin.vertex];
+    entries.emplace_back(f, f, h2 * pin.stiffness);
+  }
+  for (std::size_t s = 0; s < springs.size(); ++s) {
+    const int i = dofs.reduced_index[springs.first[s]], j = dofs.reduced_index[springs.second[s]];
+    const double k = h2 * springs.stiffness[s];
+    if (i >= 0) entries.emplace_back(i, i, k);
+    if (j >= 0) entries.emplace_back(j, j, k);
+    if (i >= 0 && j >= 0) {
+      entries.emplace_back(i, j, -k);
+      entries.emplace_back(j, i, -k);
+    }
+  }
+  Eigen::SparseMatrix<double> a(nf, nf);
+  a.setFromTriplets(entries.begin(), entries.end());
+  a.makeCompressed();
+  return a;
+}
+
+Points globalStepConstant(const Model& model, const PinSet& pins, const FreeParticleMap& dofs,
+                          const Points& y) {
+  const double h2 = model.time_step * model.time_step;
+  Points rhs = (y + h2 * model.gravity.replicate(1, y.cols())) * model.mass.asDiagonal();
+  for (const Pin& pin : pins.pins()) {
+    if (!pin.isHard()) rhs.col(pin.vertex) += h2 * pin.stiffness * pin.target;
+  }
+  const Springs& springs = model.springs;
+  for (std::size_t s = 0; s < springs.size(); ++s) {
+    const int i = springs.first[s], j = springs.second[s];
+    const bool free_i = dofs.isFree(i), free_j = dofs.isFree(j);
+    if (free_i == free_j) continue;
+    const double k = h2 * springs.stiffness[s];
+    if (free_i) rhs.col(i) += k * y.col(j);
+    else rhs.col(j) += k * y.col(i);
+  }
+  return rhs;
+}
+
+}  // namespace cloth_sim

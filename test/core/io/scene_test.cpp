@@ -1,0 +1,209 @@
+#include <dirent.h>
+
+#include <tuple>
+
+#include <gtest/gtest.h>
+
+#include "cloth_sim/core/io/scene.h"
+#include "test_util.h"
+
+namespace cloth_sim {
+namespace {
+
+std::vector<std::string> shippedScenes() {
+  std::vector<std::string> out;
+  const std::string dir = test::sourcePath("config/scenes");
+  DIR* d = opendir(dir.c_str());
+  if (d == nullptr) return out;
+  while (dirent* e = readdir(d)) {
+    const std::string name = e->d_name;
+    if (name.size() > 5 && name.substr(name.size() - 5) == ".yaml") out.push_back(dir + "/" + name);
+  }
+  closedir(d);
+  return out;
+}
+
+TEST(Scene, EveryShippedSceneLoadsAndSteps) {
+  const auto scenes = shippedScenes();
+  ASSERT_GE(scenes.size(), 4u);
+  for (const std::string& path : scenes) {
+    SCOPED_TRACE(path);
+    const SceneConfig config = loadSceneFile(path);
+    Simulation sim = makeSimulation(config);
+    EXPECT_EQ(sim.step().status, StepStatus::kOk);
+    EXPECT_TRUE(sim.state().allFinite());
+  }
+}
+
+TEST(Scene, RequiredScenesDeclareOnlyWhatTheyUse) {
+  const auto load = [](const std::string& n) {
+    return loadSceneFile(test::sourcePath("config/scenes/" + n + ".yaml"));
+  };
+  const SceneConfig hanging = load("hanging"), drape = load("drape"), trampoline = load("trampoline"),
+                    stiff = load("stiff");
+  EXPECT_EQ(hanging.name, "hanging");
+  EXPECT_EQ(hanging.pins.size(), 2u);
+  EXPECT_TRUE(hanging.spheres.empty());
+  EXPECT_FALSE(hanging.ground.enabled);
+  EXPECT_EQ(drape.spheres.size(), 1u);
+  EXPECT_TRUE(drape.ground.enabled);
+  EXPECT_TRUE(drape.pins.empty());
+  EXPECT_EQ(trampoline.pins.size(), static_cast<std::size_t>(4 * (trampoline.grid.rows - 1)));
+  EXPECT_EQ(trampoline.spheres.size(), 1u);
+  EXPECT_FALSE(trampoline.grid.has_bending);
+  EXPECT_DOUBLE_EQ(stiff.grid.structural, 100.0 * hanging.grid.structural);
+  EXPECT_DOUBLE_EQ(stiff.grid.shear, 100.0 * hanging.grid.shear);
+  EXPECT_DOUBLE_EQ(stiff.grid.bending, 100.0 * hanging.grid.bending);
+  EXPECT_NEAR(hanging.time_step, 1.0 / 60.0, 1e-15);  // written "1/60"
+}
+
+const char* kValid = R"(
+time_step: 0.01
+cloth:
+  grid: {rows: 4, cols: 5, size: [1.0, 0.5]}
+material:
+  springs: {structural: 100}
+)";
+
+TEST(Scene, MinimalSceneHasDocumentedDefaults) {
+  const SceneConfig s = parseScene(kValid, "minimal");
+  EXPECT_EQ(s.grid.rows, 4);
+  EXPECT_EQ(s.grid.cols, 5);
+  EXPECT_FALSE(s.grid.has_shear);
+  EXPECT_FALSE(s.grid.has_bending);
+  EXPECT_EQ(s.options.solver, "local_global");
+  EXPECT_EQ(s.gravity, Vec3(0, 0, -9.81));
+  EXPECT_EQ(s.damping, 0.0);
+  EXPECT_TRUE(s.pins.empty());
+}
+
+struct Malformed {
+  const char* yaml;
+  const char* field;     // the field the error must name
+  const char* fragment;  // and a piece of its message
+};
+
+TEST(Scene, MalformedScenesAreRefusedNamingTheField) {
+  const std::vector<Malformed> cases = {
+      {"cloth:\n  grid: {rows: -3, cols: 5, size: [1, 1]}\nmaterial: {springs: {structural: 1}}",
+       "cloth.grid.rows", "value -3 must be an integer in [2, 2000]"},
+      {"cloth:\n  grid: {rowz: 3, rows: 3, cols: 5, size: [1, 1]}\nmaterial: {springs: {structural: 1}}",
+       "cloth.grid.rowz", "unknown field"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 0]}\nmaterial: {springs: {structural: 1}}",
+       "cloth.grid.size[1]", "> 0"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {structural: -1}}",
+       "material.springs.structural", ">= 0 N/m"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {}}",
+       "material.springs", "at least one family"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {damping: fast, springs: {shear: 1}}",
+       "material.damping", "'fast' must be a number"},
+      {"time_step: -0.1\ncloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}",
+       "time_step", "in (0, 1] s"},
+      {"solver: {name: rk4}\ncloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}",
+       "solver.name", "unknown solver 'rk4'"},
+      {"solver: {iterations: 0}\ncloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}",
+       "solver.iterations", "[1, 100000]"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\npins: [{row: 3, col: 0}]",
+       "pins[0].row", "[0, 2]"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\npins: [{vertex: 1}, {row: 0, col: 1}]",
+       "pins[1]", "already pinned"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\npins: [{edge: middle}]",
+       "pins[0].edge", "top, bottom, left, right or all"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\npins: [{vertex: 0, target: [1, 2]}]",
+       "pins[0].target", "list of 3 numbers"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\ncolliders: {spheres: [{center: [0, 0, 0], radius: 0}]}",
+       "colliders.spheres[0].radius", "> 0 m"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\ncolliders: {ground: {friction: -1}}",
+       "colliders.ground.friction", ">= 0"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\ngravity: [0, 0, .nan]",
+       "gravity[2]", "finite"},
+      {"material: {springs: {shear: 1}}", "cloth", "is required"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}", "material", "is required"},
+  };
+  for (const Malformed& c : cases) {
+    try {
+      parseScene(c.yaml, "bad.yaml");
+      ADD_FAILURE() << "accepted: " << c.yaml;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(e.field(), c.field) << e.what();
+      EXPECT_NE(std::string(e.what()).find(c.fragment), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).rfind("bad.yaml: field '" + std::string(c.field) + "'", 0), 0u)
+          << e.what();
+    }
+  }
+}
+
+std::string meshScene(const std::string& cloth_file, const std::string& extra) {
+  return "cloth:\n  mesh: {file: " + test::sourcePath(cloth_file) +
+         "}\nmaterial: {springs: {structural: 100}}\n" + extra;
+}
+
+TEST(Scene, MalformedMeshScenesAreRefusedNamingTheField) {
+  const std::string quad = "test/data/quad.obj";
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\n  mesh: {file: a.obj}\nmaterial: {springs: {shear: 1}}",
+       "cloth", "exactly one of 'grid' or 'mesh'"},
+      {"cloth:\n  mesh: {scale: 2}\nmaterial: {springs: {structural: 1}}", "cloth.mesh.file", "is required"},
+      {meshScene("test/data/missing.obj", ""), "cloth.mesh.file", "cannot open the OBJ file"},
+      {meshScene("test/data/nonmanifold.obj", ""), "cloth.mesh.file", "non-manifold edge (0, 1)"},
+      {meshScene("test/data/degenerate.obj", ""), "cloth.mesh.file", "triangle 1 (0, 1, 3) is degenerate"},
+      {"cloth:\n  mesh: {file: " + test::sourcePath(quad) + "}\nmaterial: {springs: {structural: 1, shear: 2}}",
+       "material.springs.shear", "a mesh cloth has springs on its edges"},
+      {meshScene(quad, "pins: [{row: 0, col: 0}]"), "pins[0]", "need a grid cloth"},
+      {meshScene(quad, "pins: [{vertex: 4}]"), "pins[0].vertex", "[0, 3]"},
+      {meshScene(quad, "pins: [{region: {min: [5, 5, 5], max: [6, 6, 6]}}]"), "pins[0].region",
+       "contains no vertex"},
+      {meshScene(quad, "pins: [{region: {min: [1, 1, 1], max: [0, 0, 0]}}]"), "pins[0].region",
+       "'min' must not exceed 'max'"},
+      {meshScene(quad, "colliders: {meshes: [{file: " + test::sourcePath(quad) + ", thickness: 0}]}"),
+       "colliders.meshes[0].thickness", "> 0 m"},
+      {meshScene(quad, "colliders: {meshes: [{file: " + test::sourcePath("test/data/degenerate.obj") + "}]}"),
+       "colliders.meshes[0].file", "degenerate"},
+  };
+  for (const auto& [yaml, field, fragment] : cases) {
+    try {
+      parseScene(yaml, "bad.yaml");
+      ADD_FAILURE() << "accepted: " << yaml;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(e.field(), field) << e.what();
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(Scene, MeshClothRegionPinsAndRelativeFiles) {
+  // Files are found relative to the scene file: the shipped tablecloth uses ../meshes/.
+  const SceneConfig table = loadSceneFile(test::sourcePath("config/scenes/tablecloth.yaml"));
+  EXPECT_EQ(table.cloth_kind, SceneConfig::ClothKind::kMesh);
+  EXPECT_EQ(table.mesh.mesh.vertexCount(), 1261);
+  EXPECT_EQ(table.meshes.size(), 1u);
+  EXPECT_NEAR(table.mesh.mesh.vertices(2, 0), 1.1, 1e-12);  // placed by cloth.mesh.position
+  // A region pin takes every vertex in the box: the quad's two corners at x = 1.
+  const SceneConfig q = parseScene(
+      meshScene("test/data/quad.obj", "pins: [{region: {min: [0.9, -1, -1], max: [1.1, 2, 1]}, stiffness: 30}]"),
+      "q.yaml");
+  ASSERT_EQ(q.pins.size(), 2u);
+  EXPECT_EQ(q.pins[0].stiffness, 30.0);
+  EXPECT_EQ(makeSimulation(q).pins().size(), 2u);
+}
+
+TEST(Scene, SyntaxErrorsAndMissingFilesAreReported) {
+  try {
+    parseScene("cloth: [unclosed", "broken.yaml");
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("YAML syntax error"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(loadSceneFile("/nonexistent/scene.yaml"), SceneError);
+}
+
+TEST(Scene, EdgePinsCoverTheBorderOnce) {
+  const std::string yaml = std::string(kValid) + "pins: [{edge: top}, {edge: left, stiffness: 20}]\n";
+  const SceneConfig s = parseScene(yaml, "edges");
+  EXPECT_EQ(s.pins.size(), 5u + 3u);  // top row (5) + left column without the shared corner (3)
+  EXPECT_EQ(s.pins[0].stiffness, 0.0);
+  EXPECT_EQ(s.pins.back().stiffness, 20.0);
+}
+
+}  // namespace
+}  // namespace cloth_sim
