@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "accuracy.h"
 #include "floor.h"
 #include "scaling.h"
 #include "speed.h"
@@ -98,6 +99,39 @@ int main(int argc, char** argv) {
   scaling_cmd->add_option("--grids", scaling.obstacle_grids, "cloth sizes over the obstacles")
       ->delimiter(',')->capture_default_str()->check(CLI::Range(4, 400));
 
+  AccuracyOptions accuracy;
+  accuracy.out_dir = source_dir + "/bench/results";
+  accuracy.cache_dir = source_dir + "/bench/cache";
+  CLI::App* accuracy_cmd = app.add_subcommand(
+      "accuracy", "error against the true motion (tiny-step reference) against ms per frame");
+  accuracy_cmd->add_option("--out", accuracy.out_dir, "output directory")->capture_default_str();
+  accuracy_cmd->add_option("--cache", accuracy.cache_dir, "reference cache ('' = none)")
+      ->capture_default_str();
+  accuracy_cmd->add_option("--scenes", accuracy.scenes, "scenes")->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::IsMember({"hanging", "drape", "trampoline", "gravity_well", "tablecloth"}));
+  accuracy_cmd->add_option("--grids", accuracy.grids, "grid sizes (rows = cols)")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(4, 400));
+  accuracy_cmd->add_option("--solvers", accuracy.solvers, "solvers")->delimiter(',')
+      ->capture_default_str()->check(CLI::IsMember(cloth_sim::solverNames()));
+  accuracy_cmd->add_option("--substeps", accuracy.substeps, "substeps per frame")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(1, 1000));
+  accuracy_cmd->add_option("--iterations", accuracy.iterations, "iterations per substep")
+      ->delimiter(',')->capture_default_str()->check(CLI::Range(1, 100000));
+  accuracy_cmd->add_option("--newton-max-grid", accuracy.newton_max_grid,
+                           "converged Newton rows up to this grid (0 = none)")
+      ->capture_default_str()->check(CLI::Range(0, 400));
+  accuracy_cmd->add_option("--times", accuracy.times, "sample times, s")->delimiter(',')
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  accuracy_cmd->add_option("--reference", accuracy.reference, "reference integrator")
+      ->capture_default_str()->check(CLI::IsMember({"implicit", "verlet"}));
+  accuracy_cmd->add_option("--reference-substeps", accuracy.reference_substeps,
+                           "reference: h = frame / (2 x this); its error from h = frame / this")
+      ->capture_default_str()->check(CLI::Range(1, 10000));
+  accuracy_cmd->add_option("--max-frame-ms", accuracy.max_frame_ms,
+                           "stop a configuration slower than this per frame")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -108,7 +142,9 @@ int main(int argc, char** argv) {
     floor_options.scenes_dir = speed.scenes_dir;
     scaling.scenes_dir = speed.scenes_dir;
     scaling.meshes_dir = source_dir + "/config/meshes";
+    accuracy.scenes_dir = speed.scenes_dir;
     if (*floor_cmd) runFloor(floor_options);
+    if (*accuracy_cmd) runAccuracy(accuracy);
     if (*scaling_cmd) runScaling(scaling);
     if (*speed_cmd) {
       speed.paper = !no_paper;

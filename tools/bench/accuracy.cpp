@@ -1,0 +1,273 @@
+#include "accuracy.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <stdexcept>
+
+#include "cases.h"
+#include "stats.h"
+
+namespace cloth_sim::bench {
+namespace {
+
+/// What a run looks like at one sample time.
+struct Sample {
+  Points positions;
+  double energy = 0.0;       ///< J, Simulation::totalEnergy
+  double mean_strain = 0.0;  ///< mean |l - r| / r over the springs
+  double max_strain = 0.0;
+};
+
+struct Trajectory {
+  std::vector<Sample> samples;      ///< one per sample frame (fewer when stopped early)
+  std::vector<double> frame_ms;     ///< wall time of every frame
+  int rollbacks = 0;                ///< steps the simulation rolled back
+  bool stopped = false;             ///< slower than max_frame_ms: not run to the end
+};
+
+/// One configuration of the sweep.
+struct Config {
+  std::string solver;
+  int substeps = 1;
+  int iterations = 1;
+  double tolerance = 0.0;
+  std::string label() const {
+    return solver + " s" + std::to_string(substeps) + " i" +
+           (tolerance > 0.0 ? std::string("conv") : std::to_string(iterations));
+  }
+};
+
+Sample sampleOf(const Simulation& sim) {
+  Sample s;
+  s.positions = sim.state().positions;
+  s.energy = sim.totalEnergy();
+  const Springs& springs = sim.model().springs;
+  double sum = 0.0;
+  for (std::size_t k = 0; k < springs.size(); ++k) {
+    const double length = (s.positions.col(springs.first[k]) - s.positions.col(springs.second[k])).norm();
+    const double strain = std::abs(length - springs.rest_length[k]) / springs.rest_length[k];
+    sum += strain;
+    s.max_strain = std::max(s.max_strain, strain);
+  }
+  s.mean_strain = springs.size() > 0 ? sum / static_cast<double>(springs.size()) : 0.0;
+  return s;
+}
+
+/// Runs @p scene with @p config frame by frame (a frame is the scene's time step) and samples
+/// it at the end of the frames in @p sample_frames (increasing).
+Trajectory run(SceneConfig scene, const Config& config, const std::vector<int>& sample_frames,
+               double max_frame_ms) {
+  const double frame = scene.time_step;
+  scene.time_step = frame / config.substeps;
+  scene.options.solver = config.solver;
+  scene.options.settings.max_iterations = config.iterations;
+  scene.options.settings.tolerance = config.tolerance;
+  Simulation sim = makeSimulation(scene);
+  Trajectory t;
+  std::size_t next = 0;
+  for (int f = 1; next < sample_frames.size(); ++f) {
+    const double start = now();
+    for (int s = 0; s < config.substeps; ++s) {
+      if (sim.step().status != StepStatus::kOk) ++t.rollbacks;
+    }
+    t.frame_ms.push_back(1e3 * (now() - start));
+    if (f == sample_frames[next]) {
+      t.samples.push_back(sampleOf(sim));
+      ++next;
+    }
+    if (f == 5 && median(t.frame_ms) > max_frame_ms) {
+      t.stopped = true;
+      break;
+    }
+  }
+  return t;
+}
+
+// --- reference cache: the samples of a reference run, keyed by everything that defines it ----
+void writeSamples(const std::string& path, const std::vector<Sample>& samples) {
+  std::ofstream out(path, std::ios::binary);
+  const auto put = [&out](double v) { out.write(reinterpret_cast<const char*>(&v), sizeof v); };
+  put(static_cast<double>(samples.size()));
+  for (const Sample& s : samples) {
+    put(static_cast<double>(s.positions.cols()));
+    for (Eigen::Index i = 0; i < s.positions.size(); ++i) put(s.positions.data()[i]);
+    put(s.energy);
+    put(s.mean_strain);
+    put(s.max_strain);
+  }
+}
+
+bool readSamples(const std::string& path, std::vector<Sample>& samples) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  const auto get = [&in]() {
+    double v = 0.0;
+    in.read(reinterpret_cast<char*>(&v), sizeof v);
+    return v;
+  };
+  samples.resize(static_cast<std::size_t>(get()));
+  for (Sample& s : samples) {
+    s.positions.resize(3, static_cast<Eigen::Index>(get()));
+    for (Eigen::Index i = 0; i < s.positions.size(); ++i) s.positions.data()[i] = get();
+    s.energy = get();
+    s.mean_strain = get();
+    s.max_strain = get();
+  }
+  return static_cast<bool>(in);
+}
+
+/// Reference samples at h = frame / substeps, from the cache when it holds this exact run.
+std::vector<Sample> reference(const SceneConfig& scene, const std::string& case_name,
+                              const std::string& scene_text, int substeps,
+                              const std::vector<int>& frames, const AccuracyOptions& o) {
+  const Config config = o.reference == "verlet" ? Config{"verlet", substeps, 1, 0.0}
+                                                : Config{"chebyshev", substeps, 2000, 1e-9};
+  std::ostringstream key;
+  key << scene_text << '|' << case_name << '|' << config.label();
+  for (int f : frames) key << ',' << f;
+  std::string path;
+  if (!o.cache_dir.empty()) {
+    std::filesystem::create_directories(o.cache_dir);
+    path = o.cache_dir + "/accuracy-" + case_name + "-s" + std::to_string(substeps) + "-" +
+           std::to_string(std::hash<std::string>{}(key.str())) + ".bin";
+    std::vector<Sample> cached;
+    if (readSamples(path, cached) && cached.size() == frames.size()) return cached;
+  }
+  const Trajectory t = run(scene, config, frames, 1e300);
+  if (t.rollbacks > 0) {
+    throw std::runtime_error(case_name + ": the reference run rolled back " +
+                             std::to_string(t.rollbacks) + " steps");
+  }
+  if (!path.empty()) writeSamples(path, t.samples);
+  return t.samples;
+}
+
+double rms(const Points& a, const Points& b) {
+  return std::sqrt((a - b).colwise().squaredNorm().mean());
+}
+double maxDistance(const Points& a, const Points& b) {
+  return (a - b).colwise().norm().maxCoeff();
+}
+/// Diagonal of the bounding box of @p x (m): the cloth's size.
+double diagonal(const Points& x) { return (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).norm(); }
+
+/// Substeps per frame for velocity Verlet at a quarter of its stability limit h < 2 / w_max,
+/// rounded up to a power of two; w_max^2 <= max_i 2 sum_(springs of i) k / m_i (Gershgorin on
+/// M^-1 K, K the spring stiffness matrix at rest).
+int verletSubsteps(const SceneConfig& scene) {
+  const Simulation sim = makeSimulation(scene);
+  const Model& model = sim.model();
+  Eigen::VectorXd stiffness = Eigen::VectorXd::Zero(model.particleCount());
+  for (std::size_t k = 0; k < model.springs.size(); ++k) {
+    stiffness[model.springs.first[k]] += model.springs.stiffness[k];
+    stiffness[model.springs.second[k]] += model.springs.stiffness[k];
+  }
+  const double omega = std::sqrt((2.0 * stiffness.array() / model.mass.array()).maxCoeff());
+  int substeps = 1;
+  while (scene.time_step / substeps > 0.5 / omega) substeps *= 2;
+  return substeps;
+}
+
+void progress(int done, int total, const std::string& what) {
+  const int width = 30, filled = total > 0 ? width * done / total : width;
+  std::fprintf(stderr, "\r[%s%s] %d/%d %-40.40s", std::string(filled, '#').c_str(),
+               std::string(width - filled, '-').c_str(), done, total, what.c_str());
+  if (done == total) std::fprintf(stderr, "\n");
+  std::fflush(stderr);
+}
+
+std::vector<Config> configsFor(const AccuracyOptions& o, int grid) {
+  std::vector<Config> configs;
+  for (const std::string& solver : o.solvers) {
+    for (int s : o.substeps) {
+      for (int i : o.iterations) configs.push_back({solver, s, i, 0.0});
+    }
+  }
+  if (grid <= o.newton_max_grid) {
+    for (int s : o.substeps) configs.push_back({"newton", s, 100, 1e-10});
+  }
+  return configs;
+}
+
+}  // namespace
+
+void runAccuracy(const AccuracyOptions& o) {
+  std::filesystem::create_directories(o.out_dir);
+  std::ofstream csv(o.out_dir + "/accuracy.csv");
+  csv << "case,solver,substeps,iterations,time,rms_error,max_error,energy_ratio,mean_strain,"
+         "max_strain,ref_mean_strain,ref_max_strain,frame_ms_median,frame_ms_p10,frame_ms_p90,"
+         "rollbacks,status\n";
+  std::ofstream ref_csv(o.out_dir + "/accuracy_reference.csv");
+  ref_csv << "case,particles,diagonal,reference,h_ref,time,floor_rms,floor_max,energy,mean_strain,max_strain\n";
+
+  for (const std::string& scene_name : o.scenes) {
+    const std::string file = o.scenes_dir + "/" + scene_name + ".yaml";
+    std::ifstream in(file);
+    std::stringstream text;
+    text << in.rdbuf();
+    const bool mesh = loadSceneFile(file).cloth_kind == SceneConfig::ClothKind::kMesh;
+    for (int grid : mesh ? std::vector<int>{0} : o.grids) {
+      BenchCase c = mesh ? BenchCase{scene_name + "-mesh", scene_name, 0, false, loadSceneFile(file)}
+                         : makeCase(o.scenes_dir, scene_name, grid);
+      const double frame = c.config.time_step;
+      std::vector<int> frames;
+      for (double t : o.times) frames.push_back(static_cast<int>(std::lround(t / frame)));
+
+      const int ref_substeps =
+          o.reference == "verlet" ? std::max(o.reference_substeps, verletSubsteps(c.config))
+                                  : o.reference_substeps;
+      progress(0, 2, c.name + " reference");
+      const std::vector<Sample> coarse =
+          reference(c.config, c.name, text.str(), ref_substeps, frames, o);
+      progress(1, 2, c.name + " reference (h / 2)");
+      const std::vector<Sample> ref =
+          reference(c.config, c.name, text.str(), 2 * ref_substeps, frames, o);
+      progress(2, 2, c.name + " reference done");
+      const double size = diagonal(ref.front().positions);
+      for (std::size_t k = 0; k < frames.size(); ++k) {
+        ref_csv << c.name << ',' << ref[k].positions.cols() << ',' << size << ',' << o.reference
+                << ','                 << frame / (2 * ref_substeps) << ',' << o.times[k] << ','
+                << rms(coarse[k].positions, ref[k].positions) / size << ','
+                << maxDistance(coarse[k].positions, ref[k].positions) / size << ','
+                << ref[k].energy << ',' << ref[k].mean_strain << ',' << ref[k].max_strain << '\n';
+      }
+      std::printf("%s: %ld particles, diagonal %.3f m, reference %s h = 1/%.0f s; its error "
+                  "(distance to h x 2) at t = %.1f s: %.3g %% RMS\n",
+                  c.name.c_str(), static_cast<long>(ref.front().positions.cols()), size,
+                  o.reference.c_str(),
+                  2 * ref_substeps / frame, o.times.front(),
+                  100.0 * rms(coarse.front().positions, ref.front().positions) / size);
+
+      const std::vector<Config> configs = configsFor(o, grid);
+      for (std::size_t n = 0; n < configs.size(); ++n) {
+        const Config& cfg = configs[n];
+        progress(static_cast<int>(n), static_cast<int>(configs.size()), c.name + " " + cfg.label());
+        const Trajectory t = run(c.config, cfg, frames, o.max_frame_ms);
+        const std::string status = t.stopped ? "too_slow" : t.rollbacks > 0 ? "rolled_back" : "ok";
+        for (std::size_t k = 0; k < t.samples.size(); ++k) {
+          const Sample& s = t.samples[k];
+          csv << c.name << ',' << cfg.solver << ',' << cfg.substeps << ','
+              << (cfg.tolerance > 0.0 ? 0 : cfg.iterations) << ',' << o.times[k] << ','
+              << rms(s.positions, ref[k].positions) / size << ','
+              << maxDistance(s.positions, ref[k].positions) / size << ','
+              << s.energy / ref[k].energy << ',' << s.mean_strain << ',' << s.max_strain << ','
+              << ref[k].mean_strain << ',' << ref[k].max_strain << ',' << median(t.frame_ms)
+              << ',' << quantile(t.frame_ms, 0.1) << ',' << quantile(t.frame_ms, 0.9) << ','
+              << t.rollbacks << ',' << status << '\n';
+        }
+        if (t.samples.empty()) {
+          csv << c.name << ',' << cfg.solver << ',' << cfg.substeps << ',' << cfg.iterations
+              << ",,,,,,,,," << median(t.frame_ms) << ",,," << t.rollbacks << ',' << status << '\n';
+        }
+        csv.flush();
+      }
+      progress(static_cast<int>(configs.size()), static_cast<int>(configs.size()), c.name + " done");
+    }
+  }
+}
+
+}  // namespace cloth_sim::bench

@@ -1,0 +1,42 @@
+// Accuracy against the true motion: every configuration (solver x substeps x iterations) is run
+// frame by frame on the shipped scenes and compared, at fixed simulated times, with the same
+// scene run at a tiny step to convergence (docs/benchmark.md, "Accuracy against the true motion").
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace cloth_sim::bench {
+
+struct AccuracyOptions {
+  std::string scenes_dir;  ///< config/scenes
+  std::string out_dir;     ///< accuracy.csv, accuracy_reference.csv
+  std::string cache_dir;   ///< reference trajectories ('' = recompute every time)
+  std::vector<std::string> scenes = {"hanging", "drape", "trampoline", "gravity_well",
+                                     "tablecloth"};
+  /// Particles per side; a mesh scene (tablecloth) runs once at its own resolution.
+  std::vector<int> grids = {32, 64, 128};
+  std::vector<std::string> solvers = {"local_global", "chebyshev", "anderson"};
+  std::vector<int> substeps = {1, 2, 4, 8, 16};
+  std::vector<int> iterations = {1, 2, 3, 5, 10, 20};
+  /// Newton at full convergence (the best a step of that size can do), only up to this grid.
+  int newton_max_grid = 32;
+  /// Simulated times (s) at which positions, energy and strain are compared.
+  std::vector<double> times = {1.0, 1.5, 2.0, 3.0};
+  /// "implicit": implicit Euler solved to convergence (chebyshev, relative change 1e-9) at
+  /// h = frame / (2 n), n = reference_substeps; its own error is estimated by its distance to
+  /// the same run at frame / n (first order: that distance is about the finer run's error).
+  /// "verlet": velocity Verlet (second order, no numerical damping) at frame / (2 n), n the
+  /// larger of reference_substeps and a quarter of Verlet's stability limit.
+  std::string reference = "implicit";
+  int reference_substeps = 32;
+  /// A configuration whose first frames take more than this (ms per frame) is not run to the
+  /// end: it is far off the real-time front and would only cost benchmark time.
+  double max_frame_ms = 100.0;
+};
+
+/// Runs the sweep; writes accuracy.csv and accuracy_reference.csv into out_dir and prints a
+/// progress bar and one line per configuration.
+void runAccuracy(const AccuracyOptions& options);
+
+}  // namespace cloth_sim::bench
