@@ -2,10 +2,10 @@
 """Turns the benchmark's CSV files into plots and Markdown tables (docs/benchmark.md).
 
 Usage: bench/report.py [results_dir]   (default: bench/results next to this script)
-Reads speed.csv, traces.csv, references.csv, cases.csv, floor.csv, kernels.csv, stability.csv,
-scaling.csv
-(whichever exist) and writes speed.png, speed_position.png, converge.png and summary.md,
-speed_table.md, stability.md, scaling.md. Needs Debian's python3-matplotlib (hence /usr/bin/python3).
+Reads accuracy.csv, accuracy_reference.csv, speed.csv, traces.csv, references.csv, cases.csv,
+floor.csv, kernels.csv, stability.csv, scaling.csv (whichever exist) and writes accuracy.png,
+speed.png, speed_position.png, converge.png and accuracy.md, summary.md, speed_table.md,
+stability.md, scaling.md (accuracy ones through accuracy_report.py). Needs Debian's python3-matplotlib (hence /usr/bin/python3).
 """
 import csv
 import math
@@ -18,6 +18,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+import accuracy_report  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 RESULTS = sys.argv[1] if len(sys.argv) > 1 else os.path.join(HERE, "results")
@@ -296,6 +298,9 @@ def scaling_table(rows):
 
 
 def main():
+    accuracy = read("accuracy.csv")
+    if accuracy:
+        accuracy_report.report(RESULTS, accuracy, read("accuracy_reference.csv"), STYLE)
     speed, traces = read("speed.csv"), read("traces.csv")
     summary = []
     if speed:

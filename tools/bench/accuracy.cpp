@@ -152,7 +152,7 @@ double rms(const Points& a, const Points& b) {
 double maxDistance(const Points& a, const Points& b) {
   return (a - b).colwise().norm().maxCoeff();
 }
-/// Diagonal of the bounding box of @p x (m): the cloth's size.
+/// Diagonal of the bounding box of @p x (m): the cloth's size, taken at rest.
 double diagonal(const Points& x) { return (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).norm(); }
 
 /// Substeps per frame for velocity Verlet at a quarter of its stability limit h < 2 / w_max,
@@ -227,7 +227,7 @@ void runAccuracy(const AccuracyOptions& o) {
       const std::vector<Sample> ref =
           reference(c.config, c.name, text.str(), 2 * ref_substeps, frames, o);
       progress(2, 2, c.name + " reference done");
-      const double size = diagonal(ref.front().positions);
+      const double size = diagonal(makeSimulation(c.config).state().positions);
       for (std::size_t k = 0; k < frames.size(); ++k) {
         ref_csv << c.name << ',' << ref[k].positions.cols() << ',' << size << ',' << o.reference
                 << ','                 << frame / (2 * ref_substeps) << ',' << o.times[k] << ','
