@@ -4,7 +4,7 @@
 set -euo pipefail
 
 PACKAGES=(
-  # build tools and ROS 1 core (Debian names; see ROS_ON_DEBIAN.md)
+  # build tools and ROS 1 core (Debian 12 names: ROS 1 comes from the Debian archive)
   build-essential cmake catkin ros-core-dev libroscpp-dev python3-rostest librostest-dev
   python3-roslaunch rosbash ros-message-generation ros-message-runtime
   # message packages and tf2
@@ -21,6 +21,8 @@ PACKAGES=(
   libopenblas-dev
   # tests
   libgtest-dev libgmock-dev python3-nose
+  # Markdown check of README.md and docs/ (test/docs/markdown_test.py)
+  cmark
   # headless RViz, screenshots, benchmark plot
   xvfb xauth imagemagick x11-utils mesa-utils python3-matplotlib
 )
