@@ -1,7 +1,7 @@
 # cloth_sim: the two commands of the README, plus a few helpers.
 #   make run    installs what is missing, builds, runs the default demo scene
 #   make test   installs what is missing, builds, runs every test (gate: catkin_test_results)
-#   make bench  benchmark + stability sweep, results and plots in bench/results (README)
+#   make bench  benchmark + stability sweep, results and plots in bench/results (docs/benchmark.md)
 SHELL := /bin/bash
 SCENE ?= hanging
 
