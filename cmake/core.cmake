@@ -26,6 +26,10 @@ add_library(cloth_sim_core
   src/core/solvers/newton_solver.cpp
   src/core/solvers/local_global/local_step.cpp
   src/core/solvers/local_global/global_system.cpp
+  src/core/solvers/local_global/local_global_problem.cpp
+  src/core/solvers/local_global/local_global_driver.cpp
+  src/core/solvers/local_global/chebyshev_acceleration.cpp
+  src/core/solvers/local_global/anderson_acceleration.cpp
   src/core/solvers/local_global/local_global_solver.cpp
   src/core/solvers/local_global/lbfgs_solver.cpp
   src/core/solvers/baselines/explicit_solvers.cpp
