@@ -26,6 +26,10 @@ add_library(cloth_sim_core
   src/core/solvers/newton_solver.cpp
   src/core/solvers/local_global/local_step.cpp
   src/core/solvers/local_global/global_system.cpp
+  src/core/solvers/local_global/local_global_problem.cpp
+  src/core/solvers/local_global/local_global_driver.cpp
+  src/core/solvers/local_global/chebyshev_acceleration.cpp
+  src/core/solvers/local_global/anderson_acceleration.cpp
   src/core/solvers/local_global/local_global_solver.cpp
   src/core/solvers/local_global/lbfgs_solver.cpp
   src/core/solvers/baselines/explicit_solvers.cpp
@@ -60,7 +64,7 @@ if(CATKIN_ENABLE_TESTING)
     model/grid_builder_test model/triangle_mesh_test model/mesh_builder_test
     collision/colliders_test collision/mesh_obstacle_test collision/sphere_impacts_test
     collision/dynamic_spheres_test
-    solvers/implicit_euler_problem_test solvers/newton_solver_test
+    solvers/implicit_euler_problem_test solvers/newton_solver_test solvers/revision_cache_test
     solvers/local_global/local_step_test solvers/local_global/global_system_test
     solvers/local_global/local_global_solver_test
     solvers/baselines/explicit_solvers_test solvers/baselines/local_global_3n_solver_test

@@ -68,7 +68,8 @@ StepReport Simulation::step() {
   const double h = model_.time_step;
 
   colliders_.advance(h, model_.gravity, velocityDecay(model_));
-  contacts_.bind(&colliders_, &movable_);
+  const CollisionStep collision{h, model_.mass, movable_, before.positions};
+  if (!colliders_.empty()) contacts_.beginStep(collision, colliders_);
   const SolverInput input{model_, pins_, revision_, colliders_.empty() ? nullptr : &contacts_};
   const auto t_solve = Clock::now();
   const SolveResult solved = solver_->step(input, options_.settings, state_);
@@ -81,9 +82,8 @@ StepReport Simulation::step() {
   if (!colliders_.empty()) {
     // Only a solver that solved the contacts this step has fresh ball positions to hand over.
     if (solved.used_contacts) contacts_.finish(colliders_);
-    report.contacts =
-        resolveCollisions(colliders_, h, model_.mass, movable_, before.positions, state_.positions,
-                          state_.velocities, solved.used_contacts);
+    report.contacts = resolveCollisions(collision, colliders_, state_.positions, state_.velocities,
+                                        solved.used_contacts);
     report.contacts += resolveSphereImpacts(colliders_, 2.0 * model_.gravity.norm() * h);
   }
   report.max_strain = maxStrain(model_.springs, state_.positions);

@@ -151,7 +151,7 @@ void traceErrors(const std::string& case_name, const Config& c, const Model& mod
                  const PinSet& pins, const std::vector<Sample>& samples,
                  int cap, std::ofstream& out) {
   const std::unique_ptr<Solver> owned = makeSolver(c.solver);
-  auto* solver = dynamic_cast<LocalGlobalSolver*>(owned.get());
+  auto* solver = dynamic_cast<LocalGlobalFamily*>(owned.get());
   if (solver == nullptr || c.linear != LinearSolver::kFused) return;  // no iterate observer
   SolverSettings settings;
   settings.linear_solver = c.linear;

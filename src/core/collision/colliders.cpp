@@ -178,9 +178,12 @@ void Colliders::advance(double h, const Vec3& gravity, double decay) {
   }
 }
 
-int resolveCollisions(Colliders& colliders, double h, const Eigen::VectorXd& mass,
-                      const std::vector<char>& movable, const Points& start, Points& end,
+int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& end,
                       Points& velocities, bool in_solve_contacts) {
+  const double h = step.h;
+  const Eigen::VectorXd& mass = step.mass;
+  const std::vector<char>& movable = step.movable;
+  const Points& start = step.start;
   int corrected = 0;
   const GroundPlane& ground = colliders.ground();
   std::vector<SphereCollider>& spheres = colliders.mutableSpheres();

@@ -50,10 +50,13 @@ std::array<double, 3> barycentric(const Vec3& q, const Vec3& a, const Vec3& b, c
   return {std::max(0.0, 1.0 - v - w), std::max(0.0, v), std::max(0.0, w)};
 }
 
+/// The position (m) stored at @p offset of a node buffer.
+Vec3 nodeAt(const NodeBuffer& x, int offset) { return Vec3(x[offset], x[offset + 1], x[offset + 2]); }
+
 }  // namespace
 
-void ContactForces::addCandidates(std::size_t k, const Model& model, const Points& start,
-                                  const Points& y) {
+void ContactForces::addCandidates(std::size_t k, const Model& model, const Points& y) {
+  const Points& start = start_;
   const Body& body = bodies_[k];
   const double reach = body.radius * (1.0 + kMarginRadii);
   Eigen::AlignedBox3d swept;
@@ -63,7 +66,7 @@ void ContactForces::addCandidates(std::size_t k, const Model& model, const Point
   std::set<std::array<int, 3>> seen;  // a feature (vertex, edge, face) shared by triangles
   auto consider = [&](const std::array<int, 3>& v, int count) {
     for (int j = 0; j < count; ++j) {
-      if (!(*movable_)[v[j]]) return;  // a pinned vertex cannot be pushed
+      if (!movable_[v[j]]) return;  // a pinned vertex cannot be pushed
     }
     Eigen::AlignedBox3d box;
     for (int j = 0; j < count; ++j) box.extend(Vec3(start.col(v[j]))).extend(Vec3(y.col(v[j])));
@@ -102,20 +105,27 @@ void ContactForces::addCandidates(std::size_t k, const Model& model, const Point
   }
 }
 
-void ContactForces::begin(const Model& model, const Points& start, const Points& y,
-                          const Eigen::VectorXd& compliance) {
-  h_ = model.time_step;
+void ContactForces::beginStep(const CollisionStep& step, const Colliders& colliders) {
+  h_ = step.h;
+  movable_ = step.movable;
+  start_ = step.start;
   contacts_.clear();
   bodies_.clear();
-  for (const SphereCollider& s : colliders_->spheres()) {
+  for (const SphereCollider& s : colliders.spheres()) {
     // Colliders::advance already moved each sphere to its free end-of-step position.
     bodies_.push_back(Body{s.id, s.radius, s.isDynamic() ? 1.0 / s.mass : 0.0, s.center,
                            Vec3(s.center - h_ * s.velocity), s.center, s.angular_velocity,
                            s.isDynamic() ? 1.0 / s.inertia() : 0.0, s.friction});
   }
+}
+
+void ContactForces::begin(const Model& model, const Points& y, const Eigen::VectorXd& compliance,
+                          const std::vector<int>& particle_node) {
+  const Points& start = start_;
+  contacts_.clear();
   for (std::size_t k = 0; k < bodies_.size(); ++k) {
     // Still colliders keep the post-solve projection, which suffices without a reaction.
-    if (bodies_[k].inv_mass > 0.0) addCandidates(k, model, start, y);
+    if (bodies_[k].inv_mass > 0.0) addCandidates(k, model, y);
   }
   // Mass splitting: count the contacts sharing each vertex and each sphere.
   std::vector<int> per_vertex(y.cols(), 0), per_body(bodies_.size(), 0);
@@ -143,7 +153,22 @@ void ContactForces::begin(const Model& model, const Points& start, const Points&
       if (it != vertex_force_.end()) c.lambda += c.weight[j] * it->second / per_vertex[c.vertex[j]];
     }
   }
+  indexVertices(particle_node);
   placeBodies();
+}
+
+void ContactForces::indexVertices(const std::vector<int>& particle_node) {
+  touched_.clear();
+  std::map<int, int> slot_of;  // vertex -> slot
+  for (Contact& c : contacts_) {
+    for (int j = 0; j < 3; ++j) {
+      c.offset[j] = kNodeStride * particle_node[c.vertex[j]];
+      const auto [it, added] = slot_of.emplace(c.vertex[j], static_cast<int>(touched_.size()));
+      if (added) touched_.push_back(c.offset[j]);
+      c.slot[j] = it->second;
+    }
+  }
+  touched_force_.assign(touched_.size(), Vec3::Zero());
 }
 
 void ContactForces::placeBodies() {
@@ -154,33 +179,32 @@ void ContactForces::placeBodies() {
   }
 }
 
-double ContactForces::gap(const Contact& c, const Points& x) const {
+double ContactForces::gap(const Contact& c, const NodeBuffer& x) const {
   Vec3 point = Vec3::Zero();
   for (int j = 0; j < 3; ++j) {
-    if (c.weight[j] > 0.0) point += c.weight[j] * x.col(c.vertex[j]);
+    if (c.weight[j] > 0.0) point += c.weight[j] * nodeAt(x, c.offset[j]);
   }
   const Body& b = bodies_[c.body];
   // Along the contact's normal: the sphere linearised at the last iterate (relinearize).
   return (point - b.center).dot(c.normal) - b.radius;
 }
 
-void ContactForces::relinearize(Contact& c, const Points& x) const {
+void ContactForces::relinearize(Contact& c, const NodeBuffer& x) const {
   // Re-linearise a resting/rolling contact at the current iterate: the triangle's closest point
   // and the radial normal. Sweep contacts keep their entry normal for the whole step.
   if (c.sweep) return;
   const Body& b = bodies_[c.body];
   if (c.triangle) {
-    const Vec3 q = closestPointOnTriangle(b.center, x.col(c.vertex[0]), x.col(c.vertex[1]),
-                                          x.col(c.vertex[2]));
-    c.weight = barycentric(q, x.col(c.vertex[0]), x.col(c.vertex[1]), x.col(c.vertex[2]));
+    const Vec3 a = nodeAt(x, c.offset[0]), b1 = nodeAt(x, c.offset[1]), b2 = nodeAt(x, c.offset[2]);
+    c.weight = barycentric(closestPointOnTriangle(b.center, a, b1, b2), a, b1, b2);
   }
   Vec3 point = Vec3::Zero();
-  for (int j = 0; j < 3; ++j) point += c.weight[j] * x.col(c.vertex[j]);
+  for (int j = 0; j < 3; ++j) point += c.weight[j] * nodeAt(x, c.offset[j]);
   const Vec3 d = point - b.center;
   if (d.norm() > 1e-12) c.normal = d.normalized();
 }
 
-void ContactForces::update(const Points& x) {
+void ContactForces::update(const NodeBuffer& x) {
   const double h2 = h_ * h_;
   for (Contact& c : contacts_) relinearize(c, x);
   for (Contact& c : contacts_) {
@@ -189,7 +213,7 @@ void ContactForces::update(const Points& x) {
     if (b.friction <= 0.0) continue;
     // Slip of the contact point over the step, relative to the sphere's surface point.
     Vec3 point = Vec3::Zero();
-    for (int j = 0; j < 3; ++j) point += c.weight[j] * x.col(c.vertex[j]);
+    for (int j = 0; j < 3; ++j) point += c.weight[j] * nodeAt(x, c.offset[j]);
     const Vec3 slip = (point - c.start) - (b.center - b.old) -
                       h_ * b.spin.cross(b.radius * c.normal);
     const Vec3 tangential = slip - slip.dot(c.normal) * c.normal;
@@ -204,15 +228,19 @@ void ContactForces::update(const Points& x) {
   placeBodies();
 }
 
-void ContactForces::addForces(Points& rhs) const {
+void ContactForces::addForces(NodeBuffer& rhs) const {
   const double h2 = h_ * h_;
+  // Summed per vertex first, then added: the same sums (to the bit) as a separate force field.
+  std::fill(touched_force_.begin(), touched_force_.end(), Vec3::Zero());
   for (const Contact& c : contacts_) {
     if (c.lambda <= 0.0) continue;
     const Vec3 force = c.lambda * c.normal + c.friction;
     for (int j = 0; j < 3; ++j) {
-      if (c.weight[j] > 0.0) rhs.col(c.vertex[j]) += (h2 * c.weight[j]) * force;
+      if (c.weight[j] > 0.0) touched_force_[c.slot[j]] += (h2 * c.weight[j]) * force;
     }
   }
+  for (std::size_t t = 0; t < touched_.size(); ++t)
+    for (int d = 0; d < 3; ++d) rhs[touched_[t] + d] += touched_force_[t][d];
 }
 
 void ContactForces::finish(Colliders& colliders) {

@@ -39,8 +39,6 @@ void NewtonSolver::prepare(const SolverInput& in, LinearSolver backend) {
   backend_ = backend;
   if (backend_ == LinearSolver::kEigen) eigen_.analyzePattern(pattern_.matrix());
   else if (dofs_.freeCount() > 0) cholmod_.analyze(pattern_.matrix());
-  prepared_revision_ = in.revision;
-  prepared_ = true;
 }
 
 void NewtonSolver::assembleHessian(const Model& model, const PinSet& pins, const Points& x,
@@ -101,9 +99,8 @@ SolveResult NewtonSolver::step(const SolverInput& in, const SolverSettings& sett
 
 SolveResult NewtonSolver::minimize(const SolverInput& in, const SolverSettings& settings,
                                    const ImplicitStepProblem& problem, Points& x) {
-  if (!prepared_ || prepared_revision_ != in.revision || backend_ != settings.linear_solver) {
-    prepare(in, settings.linear_solver);
-  }
+  pattern_cache_.ensure(in.revision, settings.linear_solver,
+                        [&] { prepare(in, settings.linear_solver); });
   const double tolerance = settings.tolerance > 0.0 ? settings.tolerance : 1e-12;
   const int nf = dofs_.freeCount();
   auto free_norm = [&](const Points& grad) {

@@ -15,7 +15,7 @@ struct Contact {
   int hits = 0;
   Contact(Colliders c, const Vec3& from, const Vec3& to) : start(from), end(to) {
     velocities = (end - start) / kH;
-    hits = resolveCollisions(c, kH, Eigen::VectorXd::Ones(1), {1}, start, end, velocities);
+    hits = resolveCollisions({kH, Eigen::VectorXd::Ones(1), {1}, start}, c, end, velocities);
   }
 };
 
@@ -40,7 +40,7 @@ TEST(Colliders, ParticleRestingOnTheGroundStaysAtRest) {
     const Points start = x;
     v.col(0) += kH * standardGravity();
     x += kH * v;
-    resolveCollisions(c, kH, Eigen::VectorXd::Ones(1), {1}, start, x, v);
+    resolveCollisions({kH, Eigen::VectorXd::Ones(1), {1}, start}, c, x, v);
     ASSERT_DOUBLE_EQ(x(2, 0), 0.5);
     ASSERT_EQ(v.col(0).norm(), 0.0);
   }
@@ -93,7 +93,7 @@ TEST(Colliders, ParticlesOutsideAreUntouchedAndPinnedOnesSkipped) {
   start.col(1) = Vec3(0, 0, 0.7);
   end.col(1) = Vec3(0, 0, 0.2);  // inside, but hard-pinned
   Points v = Points::Zero(3, 2);
-  EXPECT_EQ(resolveCollisions(c, kH, Eigen::VectorXd::Ones(2), {1, 0}, start, end, v), 0);
+  EXPECT_EQ(resolveCollisions({kH, Eigen::VectorXd::Ones(2), {1, 0}, start}, c, end, v), 0);
   EXPECT_EQ(end.col(1), Vec3(0, 0, 0.2));
 }
 

@@ -79,9 +79,18 @@ class Colliders {
   int next_id_ = 0;
 };
 
+/// What the collision response of one step reads besides the colliders, built once per step
+/// by Simulation (the references must outlive the step).
+struct CollisionStep {
+  double h;                          ///< time step (s)
+  const Eigen::VectorXd& mass;       ///< per particle (kg)
+  const std::vector<char>& movable;  ///< false for hard-pinned particles: never pushed
+  const Points& start;               ///< positions at the start of the step (m)
+};
+
 /// Contact response after the solve (Liu et al. 2013, section 5: move penetrating particles out).
 ///
-/// For each particle that is free (@p movable[i] true): spheres are tested along the particle's
+/// For each movable particle (CollisionStep::movable): spheres are tested along the particle's
 /// path relative to the sphere (from start - old centre to end - new centre), so a fast sphere
 /// cannot pass through a particle within one step; a particle that entered is put back on the
 /// surface where it entered; mesh obstacles keep it on the side it came from (MeshObstacle);
@@ -97,12 +106,10 @@ class Colliders {
 /// exactly. Sphere reactions are summed over all particles and applied at the end.
 ///
 /// Spheres are at their end-of-step centres (Colliders::advance done); the start centre is
-/// center - velocity * h. @p mass is per particle (kg). With @p in_solve_contacts the solver
-/// already solved the dynamic spheres' contacts (ContactForces): a particle overlapping such a
-/// sphere by less than 5 % of its radius is then left alone. Returns the number of corrected
-/// particles.
-int resolveCollisions(Colliders& colliders, double h, const Eigen::VectorXd& mass,
-                      const std::vector<char>& movable, const Points& start, Points& end,
+/// center - velocity * h. With @p in_solve_contacts the solver already solved the dynamic
+/// spheres' contacts (ContactForces): a particle overlapping such a sphere by less than 5 % of
+/// its radius is then left alone. Returns the number of corrected particles.
+int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& end,
                       Points& velocities, bool in_solve_contacts = false);
 
 }  // namespace cloth_sim

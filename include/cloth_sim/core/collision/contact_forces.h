@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cloth_sim/core/collision/colliders.h"
+#include "cloth_sim/core/linalg/node_buffer.h"
 #include "cloth_sim/core/model/model.h"
 
 namespace cloth_sim {
@@ -31,7 +32,8 @@ namespace cloth_sim {
 /// sphere: the sphere pushes the cloth ahead of itself instead of through it (continuous
 /// detection).
 ///
-/// An iterative solver calls update(x) and addForces(rhs) before each global solve: a projected
+/// Simulation starts a step with beginStep; an iterative solver then calls begin (once) and
+/// update(x), addForces(rhs) before each global solve, on its own node-ordered buffers: a projected
 /// Jacobi step lambda <- max(0, lambda - gap / (h^2 compliance)), with compliance the point's
 /// (sum_j w_j^2 (A^-1)_jj from the solver's matrix, times the number of contacts sharing each
 /// vertex) plus the sphere's (number of its contacts / M_s): mass splitting, so the contacts
@@ -42,20 +44,20 @@ namespace cloth_sim {
 /// receives minus what the cloth receives.
 class ContactForces {
  public:
-  /// The colliders and the movable-particle mask of the coming steps (Simulation sets them).
-  void bind(const Colliders* colliders, const std::vector<char>* movable) {
-    colliders_ = colliders;
-    movable_ = movable;
-  }
-  /// Prepares a step (called by the solver) from the start positions, the predicted ones @p y
-  /// and each particle's @p compliance (1/kg: displacement per unit of right-hand side).
-  /// Dynamic spheres are at their free end-of-step positions (Colliders::advance).
-  void begin(const Model& model, const Points& start, const Points& y,
-             const Eigen::VectorXd& compliance);
+  /// Starts a step (Simulation): the dynamic spheres of @p colliders at their free end-of-step
+  /// positions (Colliders::advance done) and the step's context, kept by value until the next
+  /// beginStep.
+  void beginStep(const CollisionStep& step, const Colliders& colliders);
+  /// Finds the contacts of the step (called by the solver) from the predicted positions @p y
+  /// (3 x N, particle order) and each particle's @p compliance (1/kg: displacement per unit of
+  /// right-hand side). From here on the iterates are the solver's node buffers: particle p is at
+  /// doubles kNodeStride * @p particle_node[p] + 0, 1, 2.
+  void begin(const Model& model, const Points& y, const Eigen::VectorXd& compliance,
+             const std::vector<int>& particle_node);
   /// Projected Jacobi update of the forces from the gaps of @p x, then the spheres' positions.
-  void update(const Points& x);
-  /// rhs (3 x N) += h^2 lambda w_j n for every active contact and touched vertex j.
-  void addForces(Points& rhs) const;
+  void update(const NodeBuffer& x);
+  /// rhs += h^2 (lambda n + friction) w_j for every active contact and touched vertex j.
+  void addForces(NodeBuffer& rhs) const;
   /// Writes the dynamic spheres' end-of-step positions and velocities into @p colliders and
   /// keeps the forces for the next step's warm start.
   void finish(Colliders& colliders);
@@ -74,6 +76,8 @@ class ContactForces {
     Vec3 start = Vec3::Zero();     ///< contact point at the start of the step (m)
     bool triangle = false;         ///< vertex holds a whole triangle (weights may move)
     bool sweep = false;            ///< the sphere swept over the point: entry normal kept
+    std::array<int, 3> offset{};   ///< the vertices' first double in the node buffers
+    std::array<int, 3> slot{};     ///< the vertices' index in touched_
   };
   struct Body {
     int id;
@@ -86,17 +90,23 @@ class ContactForces {
     double inv_inertia;
     double friction; ///< Coulomb mu of the sphere
   };
-  void addCandidates(std::size_t body, const Model& model, const Points& start, const Points& y);
+  void addCandidates(std::size_t body, const Model& model, const Points& y);
   /// Signed distance (m) of the contact point beyond the contact's half-space.
-  double gap(const Contact& c, const Points& x) const;
+  double gap(const Contact& c, const NodeBuffer& x) const;
   void placeBodies();
-  void relinearize(Contact& c, const Points& x) const;
+  void relinearize(Contact& c, const NodeBuffer& x) const;
+  /// Sets the contacts' offsets and slots; lists the touched vertices.
+  void indexVertices(const std::vector<int>& particle_node);
 
-  const Colliders* colliders_ = nullptr;
-  const std::vector<char>* movable_ = nullptr;
+  double h_ = 0.0;
+  std::vector<char> movable_;  ///< this step's movable mask (CollisionStep::movable)
+  Points start_;               ///< this step's start positions (CollisionStep::start)
   std::vector<Contact> contacts_;
   std::vector<Body> bodies_;
-  double h_ = 0.0;
+  /// Node offsets of the vertices the contacts touch, and their summed force (work buffer of
+  /// addForces: each vertex's forces are summed before they reach the right-hand side).
+  std::vector<int> touched_;
+  mutable std::vector<Vec3> touched_force_;
   std::map<std::pair<int, int>, double> vertex_force_;  ///< (sphere id, vertex) -> N
 };
 

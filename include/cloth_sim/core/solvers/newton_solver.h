@@ -5,6 +5,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "cloth_sim/core/linalg/cholmod_factor.h"
+#include "cloth_sim/core/solvers/revision_cache.h"
 #include "cloth_sim/core/model/free_particles.h"
 #include "cloth_sim/core/solvers/implicit_euler_problem.h"
 #include "cloth_sim/core/solvers/solver.h"
@@ -50,8 +51,7 @@ class NewtonSolver final : public Solver {
   void assembleHessian(const Model& model, const PinSet& pins, const Points& x, bool clamp_psd);
   bool factorize();
 
-  std::uint64_t prepared_revision_ = 0;
-  bool prepared_ = false;
+  RevisionCache pattern_cache_;  ///< the pattern and its analysis
   LinearSolver backend_ = LinearSolver::kFused;
   FreeParticleMap dofs_;
   BlockPattern pattern_;

@@ -24,13 +24,11 @@ void LocalGlobal3nSolver::factorize(const SolverInput& in) {
   }
   rhs_.resize(n3);
   solution_.resize(n3);
-  prepared_revision_ = in.revision;
-  prepared_ = true;
 }
 
 SolveResult LocalGlobal3nSolver::step(const SolverInput& in, const SolverSettings& settings,
                                       State& state) {
-  if (!prepared_ || prepared_revision_ != in.revision) factorize(in);
+  factor_cache_.ensure(in.revision, [&] { factorize(in); });
   const Model& model = in.model;
   const Springs& springs = model.springs;
   const double h2 = model.time_step * model.time_step;

@@ -24,7 +24,7 @@ Eigen::Map<const Eigen::VectorXd> head(const NodeBuffer& v, Eigen::Index n) {
 
 }  // namespace
 
-void LbfgsSolver::evaluate(Point& at) { at.g = objectiveAndGradient(at.x, at.gradient); }
+void LbfgsSolver::evaluate(Point& at) { at.g = problem_.objectiveAndGradient(at.x, at.gradient); }
 
 void LbfgsSolver::clearHistory() {
   history_ = 0;
@@ -32,7 +32,7 @@ void LbfgsSolver::clearHistory() {
 }
 
 void LbfgsSolver::direction(const NodeBuffer& gradient, NodeBuffer& p) {
-  const Eigen::Index n = static_cast<Eigen::Index>(kNodeStride) * freeNodeCount();
+  const Eigen::Index n = static_cast<Eigen::Index>(kNodeStride) * problem_.freeNodeCount();
   const int window = static_cast<int>(s_.cols());
   p.assign(gradient.size(), 0.0);
   auto q = head(p, n);
@@ -43,7 +43,7 @@ void LbfgsSolver::direction(const NodeBuffer& gradient, NodeBuffer& p) {
     alpha_[i] = inverse_st_[c] * s_.col(c).dot(q);
     q.noalias() -= alpha_[i] * t_.col(c);
   }
-  solveGlobal(p);  // r = H0 q = A^-1 q
+  problem_.solveGlobal(p);  // r = H0 q = A^-1 q
   for (int i = history_ - 1; i >= 0; --i) {  // oldest first
     const int c = (newest_ - i + window) % window;
     const double beta = inverse_st_[c] * t_.col(c).dot(q);
@@ -53,7 +53,7 @@ void LbfgsSolver::direction(const NodeBuffer& gradient, NodeBuffer& p) {
 }
 
 bool LbfgsSolver::lineSearch(const Point& from, const NodeBuffer& p, Point& trial) {
-  const Eigen::Index n = static_cast<Eigen::Index>(kNodeStride) * freeNodeCount();
+  const Eigen::Index n = static_cast<Eigen::Index>(kNodeStride) * problem_.freeNodeCount();
   const double slope = head(from.gradient, n).dot(head(p, n));  // grad.p
   if (!(slope < 0.0)) return false;  // not a descent direction (or not finite)
   trial.x = from.x;  // hard-pinned rows stay
@@ -67,7 +67,7 @@ bool LbfgsSolver::lineSearch(const Point& from, const NodeBuffer& p, Point& tria
 }
 
 void LbfgsSolver::pushPair(const Point& from, const Point& to, int window) {
-  const Eigen::Index n = static_cast<Eigen::Index>(kNodeStride) * freeNodeCount();
+  const Eigen::Index n = static_cast<Eigen::Index>(kNodeStride) * problem_.freeNodeCount();
   if (s_.rows() != n || s_.cols() != window) {
     s_.resize(n, window);
     t_.resize(n, window);
@@ -91,14 +91,14 @@ void LbfgsSolver::pushPair(const Point& from, const Point& to, int window) {
 SolveResult LbfgsSolver::step(const SolverInput& in, const SolverSettings& settings,
                               State& state) {
   const SolverInput without_contacts{in.model, in.pins, in.revision, nullptr};
-  beginStep(without_contacts, settings, state);
-  clearTrace();
+  factorizations_ += problem_.begin(without_contacts, settings, state);
+  hooks_.clearTrace();
   clearHistory();
-  const NodeBuffer start = initialGuess(settings);
+  const NodeBuffer start = problem_.initialGuess(settings);
   Point x, next;
   x.x = start;
   evaluate(x);
-  recordTrace(x.g);
+  hooks_.record(x.g);
   NodeBuffer p;
   int solves = 0;
   SolveResult result;
@@ -108,14 +108,14 @@ SolveResult LbfgsSolver::step(const SolverInput& in, const SolverSettings& setti
     if (history_ == 0) {
       // p = -A^-1 grad: the local/global iterate, which never raises g. No line search.
       next.x = x.x;
-      head(next.x, static_cast<Eigen::Index>(kNodeStride) * freeNodeCount()) +=
-          head(p, static_cast<Eigen::Index>(kNodeStride) * freeNodeCount());
+      head(next.x, static_cast<Eigen::Index>(kNodeStride) * problem_.freeNodeCount()) +=
+          head(p, static_cast<Eigen::Index>(kNodeStride) * problem_.freeNodeCount());
       evaluate(next);
     } else if (!lineSearch(x, p, next)) {
       ++fallbacks_;
       clearHistory();
       if (solves >= settings.max_iterations) {
-        observe(solves, x.x);  // the step ends on x
+        hooks_.observe(solves, x.x, problem_);  // the step ends on x
         break;
       }
       continue;  // the next direction is the plain local/global one
@@ -124,15 +124,15 @@ SolveResult LbfgsSolver::step(const SolverInput& in, const SolverSettings& setti
     result.iterations = solves;
     result.convergence = relativeChange(next.x, x.x, start);
     std::swap(x, next);
-    recordTrace(x.g);
-    if (!observe(solves, x.x)) break;
+    hooks_.record(x.g);
+    if (!hooks_.observe(solves, x.x, problem_)) break;
     if (settings.tolerance > 0.0 && result.convergence < settings.tolerance) {
       result.converged = true;
       break;
     }
   }
   result.iterations = solves;
-  finishStep(x.x, state);
+  problem_.finishStep(x.x, state);
   result.used_contacts = false;  // contacts are not solved here (see the class comment)
   return result;
 }

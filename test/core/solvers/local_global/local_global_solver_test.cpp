@@ -275,20 +275,10 @@ TEST(Anderson, WindowOfOneStillConvergesAndWindowIsValidated) {
   EXPECT_STREQ(makeSolver("anderson")->name(), "anderson");
 }
 
-/// Exposes the protected objective and gradient of the local/global solvers.
-class GradientProbe : public LocalGlobalSolver {
- public:
-  using LocalGlobalSolver::beginStep;
-  using LocalGlobalSolver::freeNodeCount;
-  using LocalGlobalSolver::inertial;
-  using LocalGlobalSolver::objectiveAndGradient;
-  using LocalGlobalSolver::objectiveAt;
-};
-
 TEST(Lbfgs, GradientMatchesFiniteDifferencesOfTheObjective) {
   SwingingCloth c;  // a hard and a soft pin, springs stretched and compressed
-  GradientProbe probe;
-  probe.beginStep(c.input(), SolverSettings{}, c.state);
+  LocalGlobalProblem probe;
+  probe.begin(c.input(), SolverSettings{}, c.state);
   NodeBuffer x = probe.inertial();
   std::srand(3);
   for (int k = 0; k < probe.freeNodeCount(); ++k)

@@ -6,6 +6,7 @@
 
 #include "cloth_sim/core/model/free_particles.h"
 #include "cloth_sim/core/solvers/implicit_euler_problem.h"
+#include "cloth_sim/core/solvers/revision_cache.h"
 #include "cloth_sim/core/solvers/solver.h"
 
 namespace cloth_sim {
@@ -26,8 +27,7 @@ class LocalGlobal3nSolver final : public Solver {
  private:
   void factorize(const SolverInput& input);
 
-  std::uint64_t prepared_revision_ = 0;
-  bool prepared_ = false;
+  RevisionCache factor_cache_;
   FreeParticleMap dofs_;
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> factor_;
   Eigen::VectorXd rhs_, solution_;  // 3 N_free, interleaved x, y, z

@@ -14,7 +14,7 @@ namespace cloth_sim {
 /// L-BFGS on g(x) = 1/2 (x - y)^T M (x - y) + h^2 E(x) - h^2 x^T f_ext (docs/method.md) with the
 /// initial inverse Hessian H0 = A^-1, A = M + h^2 L the prefactored local/global matrix
 /// (Liu, Bouaziz, Kavan 2017, sec. 4 and Algorithm 1). Per iteration:
-///  - gradient grad g(x) = A x - b(x) (objectiveAndGradient: one spring pass and one product
+///  - gradient grad g(x) = A x - b(x) (LocalGlobalProblem::objectiveAndGradient: one spring pass and one product
 ///    with A; it comes with the energy of the previous line-search point);
 ///  - two-loop recursion over the last m pairs s_i = x_{i+1} - x_i, t_i = grad_{i+1} - grad_i
 ///    (m = SolverSettings::lbfgs_window): q = grad; alpha_i = s_i.q / s_i.t_i, q -= alpha_i t_i
@@ -32,7 +32,7 @@ namespace cloth_sim {
 /// at their targets (all vectors cover the free nodes only); soft pins are part of A and b.
 /// Contact forces (SolverInput::contacts) are not solved: SolveResult::used_contacts stays
 /// false and the simulation projects contacts after the step instead.
-class LbfgsSolver final : public LocalGlobalSolver {
+class LbfgsSolver final : public LocalGlobalFamily {
  public:
   const char* name() const override { return "lbfgs"; }
   SolveResult step(const SolverInput& input, const SolverSettings& settings,
