@@ -11,14 +11,17 @@
 //       spring torn across the collider (one end on top, the other on the ground beside it)
 //       goes far deeper. Bending springs skip (b): they span 2 spacings and may legitimately cross
 //       a 1-spacing ball;
-//   (c) max spring strain |l - r| / r within max(2 x ref, ref + 0.05) of the reference's, where
+//   (c) max strain |l - r| / r of the structural springs (the ones that hold the cloth's
+//       length: stretch and tearing show there; the soft shear (40 N/m) and bending (4 N/m)
+//       springs deform by 10-50 % in any fold or drape, which says nothing about contact) within max(2 x ref, ref + 0.05) of the reference's, where
 //       ref is the reference's final max strain: 2x as asked, with an absolute floor of 5 %
 //       strain so that 2x of a near-zero strain (a cloth lying flat) is not stricter than the
 //       solver's own iteration error.
 //
 // The configuration under test defaults to the smallest one that passes all scenes (see
 // kDefault* below); CONTACT_RANDOM_SUBSTEPS, CONTACT_RANDOM_ITERATIONS, CONTACT_RANDOM_SOLVER,
-// CONTACT_RANDOM_SCENES and CONTACT_RANDOM_SEED override it, e.g. to measure n = 1 (today's
+// CONTACT_RANDOM_SCENES, CONTACT_RANDOM_SEED, CONTACT_RANDOM_REF_SUBSTEPS and
+// CONTACT_RANDOM_REF_ITERATIONS override it (CONTACT_RANDOM_ONLY=3,14 runs only those scenes), e.g. to measure n = 1 (today's
 // default: local_global, 10 iterations, one step per frame). CONTACT_RANDOM_REPORT=1 prints
 // every scene's result without failing, for measuring a configuration.
 #include <chrono>
@@ -199,6 +202,8 @@ SceneParams generate(std::mt19937& rng, int index) {
 
 struct Outcome {
   double max_strain = 0.0;
+  std::string strain_where;    // the most strained structural spring
+  double max_strain_all = 0.0; // over every family (information only)
   double worst_inside = 0.0;   // m, deepest particle penetration (positive = inside)
   std::string inside_where;
   double worst_segment = 0.0;  // m, deepest spring excess penetration beyond its allowance
@@ -306,7 +311,12 @@ Outcome runScene(const SceneParams& p, const Config& c) {
     const int i = m.springs.first[k], j = m.springs.second[k];
     const Vec3 a = x.col(i), b = x.col(j);
     const double r = m.springs.rest_length[k];
-    out.max_strain = std::max(out.max_strain, std::abs((a - b).norm() - r) / r);
+    const double strain = std::abs((a - b).norm() - r) / r;
+    out.max_strain_all = std::max(out.max_strain_all, strain);
+    if (m.springs.family[k] == SpringFamily::kStructural && strain > out.max_strain) {
+      out.max_strain = strain;
+      out.strain_where = where(springFamilyName(m.springs.family[k]), i, j);
+    }
     if (m.springs.family[k] == SpringFamily::kBending) continue;
     const double l = 1.5 * r;  // chord allowance: see the file comment
     if (p.has_sphere) {
@@ -333,6 +343,9 @@ TEST(ContactRandom, ClothOnBallsBoxesAndGroundStaysOutsideAndUntorn) {
   const int scenes = envInt("CONTACT_RANDOM_SCENES", kDefaultScenes);
   const unsigned seed = static_cast<unsigned>(envInt("CONTACT_RANDOM_SEED", kDefaultSeed));
   const bool report = envInt("CONTACT_RANDOM_REPORT", 0) != 0;
+  // CONTACT_RANDOM_ONLY=3,14: run only these scenes (same parameters: all are generated).
+  const std::string only_list = envString("CONTACT_RANDOM_ONLY", "");
+  const std::string only = only_list.empty() ? "" : "," + only_list + ",";
   Config ref;
   ref.substeps = envInt("CONTACT_RANDOM_REF_SUBSTEPS", kRefSubsteps);
   ref.iterations = envInt("CONTACT_RANDOM_REF_ITERATIONS", kRefIterations);
@@ -341,10 +354,12 @@ TEST(ContactRandom, ClothOnBallsBoxesAndGroundStaysOutsideAndUntorn) {
               c.describe().c_str(), ref.describe().c_str());
 
   std::mt19937 rng(seed);
-  int fail_a = 0, fail_b = 0, fail_c = 0, failed = 0;
+  int fail_a = 0, fail_b = 0, fail_c = 0, failed = 0, ran = 0;
   double time_test = 0, time_ref = 0;
   for (int i = 0; i < scenes; ++i) {
     const SceneParams p = generate(rng, i);
+    if (!only.empty() && only.find("," + std::to_string(i) + ",") == std::string::npos) continue;
+    ++ran;
     const Outcome o = runScene(p, c);
     const Outcome r = runScene(p, ref);
     time_test += o.seconds;
@@ -363,9 +378,11 @@ TEST(ContactRandom, ClothOnBallsBoxesAndGroundStaysOutsideAndUntorn) {
         << " m [" << o.inside_where << "]\n   " << (b ? "ok  " : "FAIL") << " (b) deepest spring excess "
         << o.worst_segment << " m [" << o.segment_where << "]\n   " << (cc ? "ok  " : "FAIL")
         << " (c) max strain " << o.max_strain << " vs reference " << r.max_strain << " (limit "
-        << strain_limit << ")" << (o.rolled_back ? ", steps rolled back: " : "")
+        << strain_limit << ") [" << o.strain_where << "], all families " << o.max_strain_all << " vs "
+        << r.max_strain_all << (o.rolled_back ? ", steps rolled back: " : "")
         << (o.rolled_back ? std::to_string(o.rolled_back) : std::string())
-        << "; reference (a) " << r.worst_inside << " (b) " << r.worst_segment
+        << "; reference (a) " << r.worst_inside << " (b) " << r.worst_segment << " (c) ["
+        << r.strain_where << "]"
         << "; " << o.seconds << " s + reference " << r.seconds << " s";
     if (report) {
       std::printf("%s%s\n", (a && b && cc) ? "" : "** ", msg.str().c_str());
@@ -374,7 +391,7 @@ TEST(ContactRandom, ClothOnBallsBoxesAndGroundStaysOutsideAndUntorn) {
     }
   }
   std::printf("%s: %d of %d scenes fail (a: %d, b: %d, c: %d); %.1f s under test, %.1f s reference\n",
-              c.describe().c_str(), failed, scenes, fail_a, fail_b, fail_c, time_test, time_ref);
+              c.describe().c_str(), failed, ran, fail_a, fail_b, fail_c, time_test, time_ref);
 }
 
 }  // namespace
