@@ -63,7 +63,7 @@ if(CATKIN_ENABLE_TESTING)
     model/model_test model/pins_test model/spring_kernels_test model/strain_field_test
     model/grid_builder_test model/triangle_mesh_test model/mesh_builder_test
     collision/colliders_test collision/mesh_obstacle_test collision/sphere_impacts_test
-    collision/dynamic_spheres_test
+    collision/dynamic_spheres_test collision/contact_random_test
     solvers/implicit_euler_problem_test solvers/newton_solver_test solvers/revision_cache_test
     solvers/local_global/local_step_test solvers/local_global/global_system_test
     solvers/local_global/local_global_solver_test
