@@ -59,11 +59,12 @@ bool collideSphere(const Vec3& rel_start, Vec3& rel_end, double radius, double m
     // Keep the motion along the tangent plane at the entry point, drop the part into it.
     corrected = rel_end - std::min(0.0, (rel_end - (rel_start + t * path)).dot(normal)) * normal;
   } else {
-    // Started inside (a sphere spawned or teleported onto the cloth, or a contact left
-    // slightly open): push out on the side where the particle was at the start, so a sphere
-    // that moves on cannot carry it through to its back.
+    // Started inside (a sphere spawned or teleported onto the cloth, or a particle that
+    // rounding left just inside the surface): push the end out radially, which keeps its
+    // motion along the surface, unless the end is on the far side; then push out where the
+    // particle was at the start, so a sphere that moves on cannot carry it through to its back.
     if (rel_end.squaredNorm() >= r2) return false;
-    corrected = rel_start.squaredNorm() > 1e-24 ? rel_start : rel_end;
+    corrected = rel_end.dot(rel_start) > 0.0 || rel_start.squaredNorm() <= 1e-24 ? rel_end : rel_start;
   }
   const double len = corrected.norm();
   const Vec3 normal = len > 1e-12 ? Vec3(corrected / len) : Vec3::UnitZ();

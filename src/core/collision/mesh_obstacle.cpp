@@ -53,9 +53,27 @@ Eigen::AlignedBox3d MeshObstacle::triangleBox(int t) const {
   return box;
 }
 
+bool MeshObstacle::clear(const Vec3& a, const Vec3& b) const {
+  Eigen::AlignedBox3d box;
+  box.extend(a).extend(b);
+  box.min().array() -= thickness_;
+  box.max().array() += thickness_;
+  bool hit = false;
+  grid_.query(box, [&](int t) {
+    if (hit) return;
+    const Vec3 p = mesh_.vertices.col(mesh_.triangles(0, t));
+    const Vec3 q = mesh_.vertices.col(mesh_.triangles(1, t));
+    const Vec3 r = mesh_.vertices.col(mesh_.triangles(2, t));
+    hit = segmentTriangleCrossing(a, b, p, q, r) >= 0.0 ||
+          (b - closestPointOnTriangle(b, p, q, r)).norm() < thickness_;
+  });
+  return !hit;
+}
+
 bool MeshObstacle::collide(const Vec3& start, Vec3& end) const {
   bool changed = false;
   last_candidates_ = 0;
+  const Vec3 wanted = end;
   // A few passes: a correction by one triangle may bring the particle near another (a corner).
   for (int pass = 0; pass < 3; ++pass) {
     Eigen::AlignedBox3d box;
@@ -107,6 +125,13 @@ bool MeshObstacle::collide(const Vec3& start, Vec3& end) const {
     const Vec3 pushed = end + correction * normal;
     end = start + applyFriction(pushed - start, normal, correction, friction_);
     changed = true;
+    // A straight path that only clipped an edge: when the slid particle reaches the wanted end
+    // in a straight line without crossing or touching the mesh, it went round the edge (else a
+    // particle pulled over a box's top edge would hook under it, step after step).
+    if (crossed >= 0 && clear(end, wanted)) {
+      end = wanted;
+      break;
+    }
   }
   return changed;
 }

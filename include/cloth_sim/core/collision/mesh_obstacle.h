@@ -38,6 +38,9 @@ class MeshObstacle {
 
  private:
   Eigen::AlignedBox3d triangleBox(int t) const;
+  /// True when the segment @p a -> @p b crosses no triangle and @p b is at least thickness
+  /// away from every triangle.
+  bool clear(const Vec3& a, const Vec3& b) const;
 
   TriangleMesh mesh_;
   std::vector<Vec3> normals_;  ///< unit normal of each triangle (any orientation)
