@@ -48,7 +48,7 @@ SceneConfig stabilityScene(Scenario scenario, int grid, double stiffness, double
   c.damping = damping;
   c.options.solver = solver;
   c.options.settings.max_iterations = iterations;
-  for (int col = 0; col < grid; ++col) c.pins.push_back({gridVertex(0, col, grid), {}, 0.0});
+  for (int col = 0; col < grid; ++col) c.pins.push_back(PinSelector::atVertex(gridVertex(0, col, grid)));
   return c;
 }
 
