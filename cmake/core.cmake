@@ -37,6 +37,7 @@ add_library(cloth_sim_core
   src/core/simulation.cpp
   src/core/io/scene_reader.cpp
   src/core/io/scene_builder.cpp
+  src/core/io/scene_overrides.cpp
 )
 # CHOLMOD (SuiteSparse, Debian libsuitesparse-dev): no CMake package in Debian 12, so found by
 # hand. Private: its headers stay in src/core/linalg/cholmod_factor.cpp.
