@@ -15,6 +15,7 @@ add_library(cloth_sim_core
   src/core/model/free_particles.cpp
   src/core/model/spring_kernels.cpp
   src/core/model/strain_field.cpp
+  src/core/model/material.cpp
   src/core/model/grid_builder.cpp
   src/core/model/triangle_mesh.cpp
   src/core/model/mesh_builder.cpp

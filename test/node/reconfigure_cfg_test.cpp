@@ -34,10 +34,10 @@ const Setting* settingOfParam(const std::string& param) {
 /// What the core starts from when a scene does not say (the cfg default of each parameter).
 double coreDefault(const std::string& param) {
   static const SceneConfig scene;  // what parseScene starts from
-  const GridSpec& grid = scene.grid;
-  if (param == "structural_stiffness") return grid.structural;
-  if (param == "shear_stiffness") return grid.shear;
-  if (param == "bending_stiffness") return grid.bending;
+  const Material& material = scene.grid.material;
+  if (param == "structural_stiffness") return material.structural;
+  if (param == "shear_stiffness") return material.shear;
+  if (param == "bending_stiffness") return material.bending;
   if (param == "damping") return scene.damping;
   if (param == "iterations") return SolverSettings{}.max_iterations;
   ADD_FAILURE() << "no core default known for " << param;

@@ -35,7 +35,7 @@ BenchCase makePaperCase(const std::string& scenes_dir) {
   c.name = "paper-81";
   c.paper = true;
   c.config.grid.shear_pattern = ShearPattern::kTriangle;
-  c.config.grid.has_bending = true;
+  c.config.grid.material.has_bending = true;
   c.config.time_step = 1.0 / 30.0;
   return c;
 }

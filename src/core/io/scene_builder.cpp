@@ -10,7 +10,7 @@ namespace {
 /// Fails with the scene's message format for @p pin's field (plus @p sub, e.g. ".row").
 [[noreturn]] void fail(const SceneConfig& scene, const PinSelector& pin, const std::string& sub,
                        const std::string& problem) {
-  throw SceneError(scene.source, pin.field + sub, problem);
+  throw SceneError(scene.source, (pin.field.empty() ? "pins" : pin.field) + sub, problem);
 }
 
 /// @p index, checked to lie in [0, count).

@@ -238,9 +238,10 @@ void readGrid(const Reader& r, const YAML::Node& node, GridSpec& grid) {
 void readMaterial(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
   const std::string path = "material";
   r.map(node, path, {"areal_density", "damping", "springs", "shear_pattern"});
-  GridSpec& grid = scene.grid;
+  const bool mesh = scene.cloth_kind == SceneConfig::ClothKind::kMesh;
+  Material& material = mesh ? scene.mesh.material : scene.grid.material;
   if (node["areal_density"]) {
-    grid.areal_density =
+    material.areal_density =
         r.number(node["areal_density"], path + ".areal_density", settings::kArealDensity);
   }
   if (node["damping"]) {
@@ -254,29 +255,24 @@ void readMaterial(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
     has = static_cast<bool>(springs[key]);
     if (has) k = r.number(springs[key], sp + "." + key, setting);
   };
-  family("structural", settings::kStructuralStiffness, grid.has_structural, grid.structural);
-  family("shear", settings::kShearStiffness, grid.has_shear, grid.shear);
-  family("bending", settings::kBendingStiffness, grid.has_bending, grid.bending);
-  if (!grid.has_structural && !grid.has_shear && !grid.has_bending) {
+  family("structural", settings::kStructuralStiffness, material.has_structural,
+         material.structural);
+  family("shear", settings::kShearStiffness, material.has_shear, material.shear);
+  family("bending", settings::kBendingStiffness, material.has_bending, material.bending);
+  if (!material.has_structural && !material.has_shear && !material.has_bending) {
     r.fail(sp, "must declare at least one family (structural, shear, bending)");
   }
   if (node["shear_pattern"]) {
     const std::string p = r.text(node["shear_pattern"], path + ".shear_pattern");
-    if (p == "both") grid.shear_pattern = ShearPattern::kBoth;
-    else if (p == "triangle") grid.shear_pattern = ShearPattern::kTriangle;
+    if (p == "both") scene.grid.shear_pattern = ShearPattern::kBoth;
+    else if (p == "triangle") scene.grid.shear_pattern = ShearPattern::kTriangle;
     else r.fail(path + ".shear_pattern", "value '" + p + "' must be 'both' or 'triangle'");
   }
-  if (scene.cloth_kind == SceneConfig::ClothKind::kMesh) {
+  if (mesh) {
     const std::string why = "a mesh cloth has springs on its edges (structural) and across them "
                             "(bending) only";
-    if (grid.has_shear) r.fail(sp + ".shear", why);
+    if (material.has_shear) r.fail(sp + ".shear", why);
     if (node["shear_pattern"]) r.fail(path + ".shear_pattern", why);
-    MeshSpec& mesh = scene.mesh;
-    mesh.areal_density = grid.areal_density;
-    mesh.has_structural = grid.has_structural;
-    mesh.structural = grid.structural;
-    mesh.has_bending = grid.has_bending;
-    mesh.bending = grid.bending;
   }
 }
 

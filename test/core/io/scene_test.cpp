@@ -58,10 +58,10 @@ TEST(Scene, RequiredScenesDeclareOnlyWhatTheyUse) {
   EXPECT_TRUE(drape.pins.empty());
   EXPECT_EQ(pinsOf(trampoline).size(), static_cast<std::size_t>(4 * (trampoline.grid.rows - 1)));
   EXPECT_EQ(trampoline.spheres.size(), 1u);
-  EXPECT_FALSE(trampoline.grid.has_bending);
-  EXPECT_DOUBLE_EQ(stiff.grid.structural, 100.0 * hanging.grid.structural);
-  EXPECT_DOUBLE_EQ(stiff.grid.shear, 100.0 * hanging.grid.shear);
-  EXPECT_DOUBLE_EQ(stiff.grid.bending, 100.0 * hanging.grid.bending);
+  EXPECT_FALSE(trampoline.grid.material.has_bending);
+  EXPECT_DOUBLE_EQ(stiff.grid.material.structural, 100.0 * hanging.grid.material.structural);
+  EXPECT_DOUBLE_EQ(stiff.grid.material.shear, 100.0 * hanging.grid.material.shear);
+  EXPECT_DOUBLE_EQ(stiff.grid.material.bending, 100.0 * hanging.grid.material.bending);
   EXPECT_NEAR(hanging.time_step, 1.0 / 60.0, 1e-15);  // written "1/60"
 }
 
@@ -77,8 +77,8 @@ TEST(Scene, MinimalSceneHasDocumentedDefaults) {
   const SceneConfig s = parseScene(kValid, "minimal");
   EXPECT_EQ(s.grid.rows, 4);
   EXPECT_EQ(s.grid.cols, 5);
-  EXPECT_FALSE(s.grid.has_shear);
-  EXPECT_FALSE(s.grid.has_bending);
+  EXPECT_FALSE(s.grid.material.has_shear);
+  EXPECT_FALSE(s.grid.material.has_bending);
   EXPECT_EQ(s.options.solver, "local_global");
   EXPECT_EQ(s.gravity, Vec3(0, 0, -9.81));
   EXPECT_EQ(s.damping, 0.0);

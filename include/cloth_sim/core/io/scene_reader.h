@@ -66,9 +66,8 @@ struct SceneConfig {
   std::string source;       ///< file path or the name passed to parseScene
   /// The cloth is a grid (cloth.grid) or any triangle mesh from an OBJ file (cloth.mesh).
   enum class ClothKind { kGrid, kMesh } cloth_kind = ClothKind::kGrid;
-  /// Grid geometry, and the material of either kind (density, stiffness per family).
-  GridSpec grid;
-  MeshSpec mesh;            ///< when cloth_kind == kMesh (world coordinates, material copied)
+  GridSpec grid;            ///< when cloth_kind == kGrid (geometry and material)
+  MeshSpec mesh;            ///< when cloth_kind == kMesh (world coordinates and material)
   double time_step = 1.0 / 60.0;  ///< s
   Vec3 gravity = standardGravity();
   double damping = 0.0;     ///< 1/s, Model::damping
