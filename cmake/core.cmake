@@ -1,9 +1,12 @@
 # cloth_sim_core and its tests (included from CMakeLists.txt).
 # The folders are the layers, each depending only on the ones below it:
 #   io -> simulation -> solvers -> collision -> model -> linalg
+# and settings (the table of tunables and their ranges) below them all.
 # ---------------------------------------------------------------------------------------------
 # cloth_sim_core: C++17 + Eigen + yaml-cpp + CHOLMOD, no ROS header anywhere.
 add_library(cloth_sim_core
+  src/core/settings/range.cpp
+  src/core/settings/settings_table.cpp
   src/core/linalg/block_pattern.cpp
   src/core/linalg/cholmod_factor.cpp
   src/core/linalg/supernodal_solves.cpp
@@ -12,6 +15,7 @@ add_library(cloth_sim_core
   src/core/model/free_particles.cpp
   src/core/model/spring_kernels.cpp
   src/core/model/strain_field.cpp
+  src/core/model/material.cpp
   src/core/model/grid_builder.cpp
   src/core/model/triangle_mesh.cpp
   src/core/model/mesh_builder.cpp
@@ -22,6 +26,7 @@ add_library(cloth_sim_core
   src/core/collision/spatial_hash.cpp
   src/core/collision/mesh_obstacle.cpp
   src/core/solvers/solver.cpp
+  src/core/solvers/registry.cpp
   src/core/solvers/implicit_euler_problem.cpp
   src/core/solvers/newton_solver.cpp
   src/core/solvers/local_global/local_step.cpp
@@ -35,7 +40,9 @@ add_library(cloth_sim_core
   src/core/solvers/baselines/explicit_solvers.cpp
   src/core/solvers/baselines/local_global_3n_solver.cpp
   src/core/simulation.cpp
-  src/core/io/scene.cpp
+  src/core/io/scene_reader.cpp
+  src/core/io/scene_builder.cpp
+  src/core/io/scene_overrides.cpp
 )
 # CHOLMOD (SuiteSparse, Debian libsuitesparse-dev): no CMake package in Debian 12, so found by
 # hand. Private: its headers stay in src/core/linalg/cholmod_factor.cpp.
@@ -68,7 +75,7 @@ if(CATKIN_ENABLE_TESTING)
     solvers/local_global/local_step_test solvers/local_global/global_system_test
     solvers/local_global/local_global_solver_test
     solvers/baselines/explicit_solvers_test solvers/baselines/local_global_3n_solver_test
-    simulation_test io/scene_test)
+    simulation_test io/scene_test settings/settings_table_test)
   foreach(path ${CORE_TESTS})
     get_filename_component(t ${path} NAME)
     catkin_add_gtest(${t} test/core/${path}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

@@ -30,10 +30,10 @@ constexpr FamilyField kFamilyFields[] = {
 }  // namespace
 
 ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions options,
-                           const SceneConfig& scene)
+                           std::string scene_name, Simulation sim)
     : options_(std::move(options)),
-      scene_name_(scene.name),
-      sim_(makeSimulation(scene)),
+      scene_name_(std::move(scene_name)),
+      sim_(std::move(sim)),
       monitor_(sim_.model().time_step, options_.max_rollbacks),
       tf_listener_(tf_buffer_),
       frames_(tf_buffer_, options_.frame_id),

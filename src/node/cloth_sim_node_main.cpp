@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
     const cloth_sim::node::NodeOptions options = cloth_sim::node::parseNodeOptions(params);
     const std::string scene_dir = ros::package::getPath("cloth_sim") + "/config/scenes";
     const cloth_sim::SceneConfig scene = cloth_sim::node::loadScene(options, scene_dir);
-    cloth_sim::node::ClothSimNode node(nh, pnh, options, scene);
+    cloth_sim::node::ClothSimNode node(nh, pnh, options, scene.name,
+                                       cloth_sim::node::buildScene(scene));
     ros::spin();  // one thread: see ClothSimNode
   } catch (const std::exception& e) {
     ROS_FATAL("cloth_sim_node: %s", e.what());

@@ -4,7 +4,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cloth_sim/core/settings/settings_table.h"
 #include "cloth_sim/core/solvers/solver.h"
+#include "cloth_sim/node/conversions.h"
 
 namespace cloth_sim::node {
 namespace {
@@ -12,6 +14,11 @@ namespace {
 [[noreturn]] void fail(const std::string& param, const std::string& problem) {
   throw std::invalid_argument("parameter '~" + param + "': " + problem);
 }
+
+/// ~iterations: the scene's range, plus 0 for "keep the scene's".
+constexpr Setting kIterationsOverride{
+    "iterations", "iterations", Range::closed(0, settings::kIterations.range.max), true, "",
+    "(0 = the scene's)", "replaces the scene's iterations per step when > 0", 0};
 
 const char* typeName(XmlRpc::XmlRpcValue::Type type) {
   switch (type) {
@@ -126,9 +133,8 @@ void validateNodeOptions(const NodeOptions& o) {
       fail("solver", e.what());
     }
   }
-  if (o.iterations < 0 || o.iterations > 100000) {
-    fail("iterations", str(o.iterations) + " must be in [0, 100000] (0 = the scene's)");
-  }
+  const std::string iterations_problem = violation(o.iterations, kIterationsOverride);
+  if (!iterations_problem.empty()) fail("iterations", iterations_problem);
   if (o.max_rollbacks < 1) fail("max_rollbacks", str(o.max_rollbacks) + " must be >= 1");
   if (!std::isfinite(o.strain_color_scale) || o.strain_color_scale <= 0.0) {
     fail("strain_color_scale", str(o.strain_color_scale) + " must be finite and > 0");
@@ -157,16 +163,18 @@ SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir) 
   } catch (const SceneError& e) {
     fail("scene", e.what());
   }
-  if (!options.solver.empty()) scene.options.solver = options.solver;
-  if (options.iterations > 0) {
-    scene.options.settings.max_iterations = options.iterations;
-    try {
-      scene.options.settings.validate();
-    } catch (const std::invalid_argument& e) {
-      fail("iterations", e.what());
-    }
+  SceneOverrides overrides;
+  if (!options.solver.empty()) overrides.solver = options.solver;
+  if (options.iterations > 0) overrides.iterations = options.iterations;
+  return applyOverrides(std::move(scene), overrides);
+}
+
+Simulation buildScene(const SceneConfig& scene) {
+  try {
+    return makeSimulation(scene);
+  } catch (const SceneError& e) {
+    fail("scene", e.what());
   }
-  return scene;
 }
 
 }  // namespace cloth_sim::node

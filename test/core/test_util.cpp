@@ -25,11 +25,11 @@ BuiltObject makeGrid(int rows, int cols, double structural, double shear, double
   spec.rows = rows;
   spec.cols = cols;
   spec.pose = Eigen::Translation3d(0.0, 0.0, 1.0) * Eigen::Isometry3d::Identity();
-  spec.structural = structural;
-  spec.has_shear = shear > 0.0;
-  spec.shear = shear;
-  spec.has_bending = bending > 0.0;
-  spec.bending = bending;
+  spec.material.structural = structural;
+  spec.material.has_shear = shear > 0.0;
+  spec.material.shear = shear;
+  spec.material.has_bending = bending > 0.0;
+  spec.material.bending = bending;
   return buildGrid(spec);
 }
 

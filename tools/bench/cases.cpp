@@ -11,15 +11,21 @@ BenchCase makeCase(const std::string& scenes_dir, const std::string& scene, int 
   c.name = scene + "-" + std::to_string(grid);
   c.config = loadSceneFile(scenes_dir + "/" + scene + ".yaml");
   const int old_rows = c.config.grid.rows, old_cols = c.config.grid.cols;
+  // Pins resolved at the file's resolution, then each moved to the same place on the sheet at
+  // the new resolution (corners stay corners).
+  const std::vector<PinSpec> pins = resolvePins(c.config, buildCloth(c.config).rest_positions);
   c.config.grid.rows = grid;
   c.config.grid.cols = grid;
-  // Pins were resolved to vertex indices at load time: move each to the same place on the
-  // sheet at the new resolution (corners stay corners).
   auto scale = [grid](int index, int old_count) {
     return static_cast<int>(std::lround(static_cast<double>(index) * (grid - 1) / (old_count - 1)));
   };
-  for (PinSpec& pin : c.config.pins) {
-    pin.vertex = gridVertex(scale(pin.vertex / old_cols, old_rows), scale(pin.vertex % old_cols, old_cols), grid);
+  c.config.pins.clear();
+  for (const PinSpec& pin : pins) {
+    PinSelector moved = PinSelector::atVertex(
+        gridVertex(scale(pin.vertex / old_cols, old_rows), scale(pin.vertex % old_cols, old_cols), grid));
+    moved.target = pin.target;
+    moved.stiffness = pin.stiffness;
+    c.config.pins.push_back(moved);
   }
   return c;
 }
@@ -29,7 +35,7 @@ BenchCase makePaperCase(const std::string& scenes_dir) {
   c.name = "paper-81";
   c.paper = true;
   c.config.grid.shear_pattern = ShearPattern::kTriangle;
-  c.config.grid.has_bending = true;
+  c.config.grid.material.has_bending = true;
   c.config.time_step = 1.0 / 30.0;
   return c;
 }

@@ -33,11 +33,11 @@ SceneConfig stabilityScene(Scenario scenario, int grid, double stiffness, double
   c.grid.cols = grid;
   c.grid.width = 1.0;
   c.grid.height = 1.0;
-  c.grid.areal_density = 0.2;
-  c.grid.structural = stiffness;
-  c.grid.shear = stiffness / 10.0;
-  c.grid.has_bending = true;
-  c.grid.bending = stiffness / 100.0;
+  c.grid.material.areal_density = 0.2;
+  c.grid.material.structural = stiffness;
+  c.grid.material.shear = stiffness / 10.0;
+  c.grid.material.has_bending = true;
+  c.grid.material.bending = stiffness / 100.0;
   // Horizontal at z = 1.5 m (release), or hanging in the x-z plane from z = 1.5 m down to 0.5 m.
   c.grid.pose = Eigen::Translation3d(0.0, 0.0, scenario == Scenario::kRelease ? 1.5 : 1.0) *
                 Eigen::Isometry3d::Identity();
@@ -48,7 +48,7 @@ SceneConfig stabilityScene(Scenario scenario, int grid, double stiffness, double
   c.damping = damping;
   c.options.solver = solver;
   c.options.settings.max_iterations = iterations;
-  for (int col = 0; col < grid; ++col) c.pins.push_back({gridVertex(0, col, grid), {}, 0.0});
+  for (int col = 0; col < grid; ++col) c.pins.push_back(PinSelector::atVertex(gridVertex(0, col, grid)));
   return c;
 }
 

@@ -1,6 +1,5 @@
 // Headless runner: steps a scene without ROS; per-step CSV or JSON, final positions, progress.
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -9,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cloth_sim/core/io/scene.h"
+#include "cloth_sim/core/settings/settings_table.h"
 #include "step_log.h"
 
 namespace {
@@ -21,21 +21,28 @@ struct Options {
   bool quiet = false, warm_start = false;
 };
 
-/// A CLI11 validator for a strictly positive, finite number.
-const CLI::Validator kPositiveFinite(
-    [](std::string& text) -> std::string {
-      double v = 0.0;
-      try {
-        std::size_t used = 0;
-        v = std::stod(text, &used);
-        if (used != text.size()) return "'" + text + "' is not a number";
-      } catch (const std::exception&) {
-        return "'" + text + "' is not a number";
-      }
-      if (!std::isfinite(v) || v <= 0.0) return "must be a finite number > 0, got " + text;
-      return "";
-    },
-    "POSITIVE", "positive");
+/// A CLI11 validator: a number in @p range, described by @p requirement (its rule and unit).
+CLI::Validator inRange(cloth_sim::Range range, const std::string& requirement) {
+  return CLI::Validator(
+      [range, requirement](std::string& text) -> std::string {
+        double v = 0.0;
+        try {
+          std::size_t used = 0;
+          v = std::stod(text, &used);
+          if (used != text.size()) return "'" + text + "' is not a number";
+        } catch (const std::exception&) {
+          return "'" + text + "' is not a number";
+        }
+        if (!range.contains(v)) return "value " + text + " must be " + requirement;
+        return "";
+      },
+      requirement, "");
+}
+
+/// A CLI11 validator for the range of @p setting (settings_table.h).
+CLI::Validator allowedBy(const cloth_sim::Setting& setting) {
+  return inRange(setting.range, setting.requirement());
+}
 
 }  // namespace
 
@@ -48,13 +55,15 @@ int main(int argc, char** argv) {
   app.add_option("--solver", o.solver, "solver (default: the scene's)")
       ->check(CLI::IsMember(solverNames()));
   app.add_option("--iterations", o.iterations, "iterations per step (default: the scene's)")
-      ->check(CLI::Range(1, 100000));
-  app.add_option("--dt", o.dt, "time step h in s (default: the scene's)")->check(kPositiveFinite);
-  app.add_option("--duration", o.duration, "simulated seconds (default 5)")->check(kPositiveFinite);
+      ->check(allowedBy(settings::kIterations));
+  app.add_option("--dt", o.dt, "time step h in s (default: the scene's)")
+      ->check(allowedBy(settings::kTimeStep));
+  app.add_option("--duration", o.duration, "simulated seconds (default 5)")
+      ->check(inRange(Range::above(0), "> 0 s"));
   app.add_option("--tolerance", o.tolerance, "stop iterating below this relative change (0 = never)")
-      ->check(CLI::Range(0.0, 1.0));
-  app.add_option("--linear-solver", o.linear_solver, "global step solve: fused (default), cholmod, eigen")
-      ->check(CLI::IsMember({"fused", "cholmod", "eigen"}));
+      ->check(allowedBy(settings::kTolerance));
+  app.add_option("--linear-solver", o.linear_solver, "global step solve (default: fused)")
+      ->check(CLI::IsMember(linearSolverNames()));
   auto* csv = app.add_option("--csv", o.csv, "per-step CSV to this file ('-' = stdout)");
   app.add_option("--json", o.json, "per-step JSON to this file ('-' = stdout)")->excludes(csv);
   app.add_option("--positions", o.positions, "final positions (CSV: particle,x,y,z in m) to this file");
@@ -68,15 +77,14 @@ int main(int argc, char** argv) {
   }
 
   try {
-    SceneConfig scene = loadSceneFile(o.scene_path);
-    if (!o.solver.empty()) scene.options.solver = o.solver;
-    if (o.iterations) scene.options.settings.max_iterations = *o.iterations;
-    if (o.tolerance) scene.options.settings.tolerance = *o.tolerance;
-    if (!o.linear_solver.empty()) {
-      scene.options.settings.linear_solver = linearSolverFromName(o.linear_solver);
-    }
-    if (o.dt) scene.time_step = *o.dt;
-    if (o.warm_start) scene.options.settings.warm_start = true;
+    SceneOverrides overrides;
+    if (!o.solver.empty()) overrides.solver = o.solver;
+    overrides.iterations = o.iterations;
+    overrides.tolerance = o.tolerance;
+    if (!o.linear_solver.empty()) overrides.linear_solver = linearSolverFromName(o.linear_solver);
+    overrides.time_step = o.dt;
+    if (o.warm_start) overrides.warm_start = true;
+    const SceneConfig scene = applyOverrides(loadSceneFile(o.scene_path), overrides);
     Simulation sim = makeSimulation(scene);
     const double h = sim.model().time_step;
     const int steps = std::max(1, static_cast<int>(o.duration / h + 0.5));

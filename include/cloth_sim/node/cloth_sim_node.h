@@ -23,7 +23,6 @@
 #include <cloth_sim/RemoveSphere.h>
 #include <cloth_sim/SpawnSphere.h>
 
-#include "cloth_sim/core/io/scene.h"
 #include "cloth_sim/core/simulation.h"
 #include "cloth_sim/node/frame_resolver.h"
 #include "cloth_sim/node/log_throttle.h"
@@ -43,10 +42,11 @@ namespace cloth_sim::node {
 /// listener has a thread of its own, and it writes only into the (locked) tf2 buffer.
 class ClothSimNode {
  public:
-  /// Builds the simulation of @p scene and starts serving. @p nh is the namespace of the
-  /// public names (cloth/...), @p pnh the private one (parameters, dynamic_reconfigure).
+  /// Serves @p sim, the simulation of the scene called @p scene_name (buildScene). @p nh is the
+  /// namespace of the public names (cloth/...), @p pnh the private one (parameters,
+  /// dynamic_reconfigure).
   ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions options,
-               const SceneConfig& scene);
+               std::string scene_name, Simulation sim);
 
  private:
   // --- scheduling (cloth_sim_node.cpp) --------------------------------------------------------

@@ -23,7 +23,8 @@ struct NodeOptions {
   double render_rate = 30.0;
   /// ~solver: replaces the scene's solver when not empty (a name from solverNames()).
   std::string solver;
-  /// ~iterations: replaces the scene's iterations per step when > 0; 0 keeps the scene's.
+  /// ~iterations: replaces the scene's iterations per step when > 0; 0 keeps the scene's (range:
+  /// settings::kIterations).
   int iterations = 0;
   /// ~max_rollbacks, >= 1: after this many rolled-back (diverged) steps in a row the node
   /// resets the simulation to its initial state (see docs/ros_interface.md, "Divergence").
@@ -58,8 +59,12 @@ void validateNodeOptions(const NodeOptions& options);
 std::string resolveScenePath(const std::string& scene, const std::string& scene_dir);
 
 /// Loads the scene file of @p options (resolved against @p scene_dir) and applies ~solver and
-/// ~iterations to it. Throws std::invalid_argument "parameter '~scene': <what is wrong>" for a
-/// missing or invalid file, or naming ~solver / ~iterations when the override is not usable.
+/// ~iterations to it (checked by validateNodeOptions). Throws std::invalid_argument
+/// "parameter '~scene': <what is wrong>" for a missing or invalid file.
 SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir);
+
+/// The simulation of @p scene (from loadScene). Throws std::invalid_argument
+/// "parameter '~scene': <what is wrong>" when it cannot be built (e.g. a pin out of range).
+Simulation buildScene(const SceneConfig& scene);
 
 }  // namespace cloth_sim::node

@@ -1,34 +1,25 @@
 #include "cloth_sim/core/model/grid_builder.h"
 
-#include <cmath>
 #include <stdexcept>
-#include <string>
+
+#include "cloth_sim/core/settings/settings_table.h"
 
 namespace cloth_sim {
-namespace {
-void require(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument("grid: " + what);
-}
-bool finiteNonNegative(double v) { return std::isfinite(v) && v >= 0.0; }
-}  // namespace
 
 void GridSpec::validate() const {
-  require(rows >= 2, "rows = " + std::to_string(rows) + " must be >= 2");
-  require(cols >= 2, "cols = " + std::to_string(cols) + " must be >= 2");
-  require(std::isfinite(width) && width > 0.0, "width must be finite and > 0 m");
-  require(std::isfinite(height) && height > 0.0, "height must be finite and > 0 m");
-  require(pose.matrix().allFinite(), "pose must be finite");
-  require(std::isfinite(areal_density) && areal_density > 0.0,
-          "areal_density must be finite and > 0 kg/m^2");
-  require(!has_structural || finiteNonNegative(structural), "structural stiffness must be >= 0");
-  require(!has_shear || finiteNonNegative(shear), "shear stiffness must be >= 0");
-  require(!has_bending || finiteNonNegative(bending), "bending stiffness must be >= 0");
+  settings::kGridResolution.require(rows);
+  settings::kGridResolution.require(cols);
+  settings::kGridSize.require(width);
+  settings::kGridSize.require(height);
+  if (!pose.matrix().allFinite()) throw std::invalid_argument("grid pose must be finite");
+  material.validate();
 }
 
 BuiltObject buildGrid(const GridSpec& spec) {
   spec.validate();
   const int rows = spec.rows, cols = spec.cols, n = rows * cols;
   const double dx = spec.width / (cols - 1), dy = spec.height / (rows - 1);
+  const Material& m = spec.material;
 
   BuiltObject out;
   Model& model = out.model;
@@ -40,7 +31,7 @@ BuiltObject buildGrid(const GridSpec& spec) {
       out.rest_positions.col(gridVertex(r, c, cols)) = spec.pose * local;
       const double share_x = (c == 0 || c == cols - 1) ? 0.5 : 1.0;
       const double share_y = (r == 0 || r == rows - 1) ? 0.5 : 1.0;
-      model.mass[gridVertex(r, c, cols)] = spec.areal_density * dx * dy * share_x * share_y;
+      model.mass[gridVertex(r, c, cols)] = m.areal_density * dx * dy * share_x * share_y;
     }
   }
 
@@ -50,19 +41,19 @@ BuiltObject buildGrid(const GridSpec& spec) {
   };
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
-      if (spec.has_structural) {
-        if (c + 1 < cols) add(r, c, r, c + 1, spec.structural, SpringFamily::kStructural);
-        if (r + 1 < rows) add(r, c, r + 1, c, spec.structural, SpringFamily::kStructural);
+      if (m.has_structural) {
+        if (c + 1 < cols) add(r, c, r, c + 1, m.structural, SpringFamily::kStructural);
+        if (r + 1 < rows) add(r, c, r + 1, c, m.structural, SpringFamily::kStructural);
       }
-      if (spec.has_shear && r + 1 < rows && c + 1 < cols) {
-        add(r, c, r + 1, c + 1, spec.shear, SpringFamily::kShear);
+      if (m.has_shear && r + 1 < rows && c + 1 < cols) {
+        add(r, c, r + 1, c + 1, m.shear, SpringFamily::kShear);
         if (spec.shear_pattern == ShearPattern::kBoth) {
-          add(r, c + 1, r + 1, c, spec.shear, SpringFamily::kShear);
+          add(r, c + 1, r + 1, c, m.shear, SpringFamily::kShear);
         }
       }
-      if (spec.has_bending) {
-        if (c + 2 < cols) add(r, c, r, c + 2, spec.bending, SpringFamily::kBending);
-        if (r + 2 < rows) add(r, c, r + 2, c, spec.bending, SpringFamily::kBending);
+      if (m.has_bending) {
+        if (c + 2 < cols) add(r, c, r, c + 2, m.bending, SpringFamily::kBending);
+        if (r + 2 < rows) add(r, c, r + 2, c, m.bending, SpringFamily::kBending);
       }
     }
   }

@@ -18,9 +18,9 @@ Simulation pinnedSheet(int n, double size, double k, const std::string& solver,
   GridSpec spec;
   spec.rows = spec.cols = n;
   spec.width = spec.height = size;
-  spec.areal_density = 0.2;
-  spec.structural = k;
-  spec.shear = 0.1 * k;
+  spec.material.areal_density = 0.2;
+  spec.material.structural = k;
+  spec.material.shear = 0.1 * k;
   BuiltObject g = buildGrid(spec);
   g.model.damping = damping;
   PinSet pins;

@@ -10,6 +10,14 @@
 namespace cloth_sim {
 namespace {
 
+/// The pins @p scene resolves to on its own cloth.
+std::vector<PinSpec> pinsOf(const SceneConfig& scene) {
+  return resolvePins(scene, buildCloth(scene).rest_positions);
+}
+
+/// Reads @p yaml and builds it: the reader's errors and the builder's (pin indices) alike.
+void readAndBuild(const std::string& yaml) { makeSimulation(parseScene(yaml, "bad.yaml")); }
+
 std::vector<std::string> shippedScenes() {
   std::vector<std::string> out;
   const std::string dir = test::sourcePath("config/scenes");
@@ -48,12 +56,12 @@ TEST(Scene, RequiredScenesDeclareOnlyWhatTheyUse) {
   EXPECT_EQ(drape.spheres.size(), 1u);
   EXPECT_TRUE(drape.ground.enabled);
   EXPECT_TRUE(drape.pins.empty());
-  EXPECT_EQ(trampoline.pins.size(), static_cast<std::size_t>(4 * (trampoline.grid.rows - 1)));
+  EXPECT_EQ(pinsOf(trampoline).size(), static_cast<std::size_t>(4 * (trampoline.grid.rows - 1)));
   EXPECT_EQ(trampoline.spheres.size(), 1u);
-  EXPECT_FALSE(trampoline.grid.has_bending);
-  EXPECT_DOUBLE_EQ(stiff.grid.structural, 100.0 * hanging.grid.structural);
-  EXPECT_DOUBLE_EQ(stiff.grid.shear, 100.0 * hanging.grid.shear);
-  EXPECT_DOUBLE_EQ(stiff.grid.bending, 100.0 * hanging.grid.bending);
+  EXPECT_FALSE(trampoline.grid.material.has_bending);
+  EXPECT_DOUBLE_EQ(stiff.grid.material.structural, 100.0 * hanging.grid.material.structural);
+  EXPECT_DOUBLE_EQ(stiff.grid.material.shear, 100.0 * hanging.grid.material.shear);
+  EXPECT_DOUBLE_EQ(stiff.grid.material.bending, 100.0 * hanging.grid.material.bending);
   EXPECT_NEAR(hanging.time_step, 1.0 / 60.0, 1e-15);  // written "1/60"
 }
 
@@ -69,8 +77,8 @@ TEST(Scene, MinimalSceneHasDocumentedDefaults) {
   const SceneConfig s = parseScene(kValid, "minimal");
   EXPECT_EQ(s.grid.rows, 4);
   EXPECT_EQ(s.grid.cols, 5);
-  EXPECT_FALSE(s.grid.has_shear);
-  EXPECT_FALSE(s.grid.has_bending);
+  EXPECT_FALSE(s.grid.material.has_shear);
+  EXPECT_FALSE(s.grid.material.has_bending);
   EXPECT_EQ(s.options.solver, "local_global");
   EXPECT_EQ(s.gravity, Vec3(0, 0, -9.81));
   EXPECT_EQ(s.damping, 0.0);
@@ -122,7 +130,7 @@ TEST(Scene, MalformedScenesAreRefusedNamingTheField) {
   };
   for (const Malformed& c : cases) {
     try {
-      parseScene(c.yaml, "bad.yaml");
+      readAndBuild(c.yaml);
       ADD_FAILURE() << "accepted: " << c.yaml;
     } catch (const SceneError& e) {
       EXPECT_EQ(e.field(), c.field) << e.what();
@@ -162,7 +170,7 @@ TEST(Scene, MalformedMeshScenesAreRefusedNamingTheField) {
   };
   for (const auto& [yaml, field, fragment] : cases) {
     try {
-      parseScene(yaml, "bad.yaml");
+      readAndBuild(yaml);
       ADD_FAILURE() << "accepted: " << yaml;
     } catch (const SceneError& e) {
       EXPECT_EQ(e.field(), field) << e.what();
@@ -182,8 +190,9 @@ TEST(Scene, MeshClothRegionPinsAndRelativeFiles) {
   const SceneConfig q = parseScene(
       meshScene("test/data/quad.obj", "pins: [{region: {min: [0.9, -1, -1], max: [1.1, 2, 1]}, stiffness: 30}]"),
       "q.yaml");
-  ASSERT_EQ(q.pins.size(), 2u);
-  EXPECT_EQ(q.pins[0].stiffness, 30.0);
+  const std::vector<PinSpec> q_pins = pinsOf(q);
+  ASSERT_EQ(q_pins.size(), 2u);
+  EXPECT_EQ(q_pins[0].stiffness, 30.0);
   EXPECT_EQ(makeSimulation(q).pins().size(), 2u);
 }
 
@@ -199,10 +208,30 @@ TEST(Scene, SyntaxErrorsAndMissingFilesAreReported) {
 
 TEST(Scene, EdgePinsCoverTheBorderOnce) {
   const std::string yaml = std::string(kValid) + "pins: [{edge: top}, {edge: left, stiffness: 20}]\n";
-  const SceneConfig s = parseScene(yaml, "edges");
-  EXPECT_EQ(s.pins.size(), 5u + 3u);  // top row (5) + left column without the shared corner (3)
-  EXPECT_EQ(s.pins[0].stiffness, 0.0);
-  EXPECT_EQ(s.pins.back().stiffness, 20.0);
+  const std::vector<PinSpec> pins = pinsOf(parseScene(yaml, "edges"));
+  EXPECT_EQ(pins.size(), 5u + 3u);  // top row (5) + left column without the shared corner (3)
+  EXPECT_EQ(pins[0].stiffness, 0.0);
+  EXPECT_EQ(pins.back().stiffness, 20.0);
+}
+
+TEST(Scene, TheReaderKeepsPinSelectorsAsData) {
+  // Parsing resolves nothing: an out-of-range row is the builder's to refuse.
+  const std::string yaml = std::string(kValid) +
+                           "pins: [{row: 9, col: 1, target: [0, 0, 1]}, {edge: all, stiffness: 5}]\n";
+  const SceneConfig s = parseScene(yaml, "selectors");
+  ASSERT_EQ(s.pins.size(), 2u);
+  EXPECT_EQ(s.pins[0].kind, PinSelector::Kind::kCell);
+  EXPECT_EQ(s.pins[0].row, 9);
+  EXPECT_EQ(s.pins[0].field, "pins[0]");
+  EXPECT_EQ(s.pins[1].kind, PinSelector::Kind::kEdge);
+  EXPECT_EQ(s.pins[1].edge, "all");
+  try {
+    makeSimulation(s);
+    ADD_FAILURE() << "row 9 of 4 accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.field(), "pins[0].row");
+    EXPECT_STREQ(e.what(), "selectors: field 'pins[0].row': value 9 must be an integer in [0, 3]");
+  }
 }
 
 }  // namespace

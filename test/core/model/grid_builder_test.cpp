@@ -11,14 +11,14 @@ TEST(GridBuilder, SpringCountsPerFamily) {
   GridSpec spec;
   spec.rows = 7;
   spec.cols = 9;
-  spec.has_bending = true;
+  spec.material.has_bending = true;
   const Model m = buildGrid(spec).model;
   EXPECT_EQ(m.familySize(SpringFamily::kStructural), 7 * 8 + 9 * 6);
   EXPECT_EQ(m.familySize(SpringFamily::kShear), 2 * 6 * 8);
   EXPECT_EQ(m.familySize(SpringFamily::kBending), 7 * 7 + 9 * 5);
   EXPECT_EQ(m.triangles.cols(), 2 * 6 * 8);
-  spec.has_shear = false;
-  spec.has_bending = false;
+  spec.material.has_shear = false;
+  spec.material.has_bending = false;
   EXPECT_EQ(buildGrid(spec).model.springs.size(), 7u * 8 + 9 * 6);
 }
 
@@ -27,7 +27,7 @@ TEST(GridBuilder, PaperTopologyHas32158SpringsAt81x81) {
   GridSpec spec;
   spec.rows = spec.cols = 81;
   spec.shear_pattern = ShearPattern::kTriangle;
-  spec.has_bending = true;
+  spec.material.has_bending = true;
   EXPECT_EQ(buildGrid(spec).model.springs.size(), 32158u);
 }
 
@@ -37,8 +37,8 @@ TEST(GridBuilder, LumpedMassesRestLengthsAndPose) {
   spec.cols = 3;
   spec.width = 2.0;
   spec.height = 1.0;
-  spec.areal_density = 0.3;
-  spec.has_bending = true;
+  spec.material.areal_density = 0.3;
+  spec.material.has_bending = true;
   spec.pose = Eigen::Translation3d(1, 2, 3) * Eigen::AngleAxisd(M_PI / 2, Vec3::UnitX());
   const BuiltObject g = buildGrid(spec);
   EXPECT_NEAR(g.model.mass.sum(), 0.3 * 2.0 * 1.0, 1e-12);
@@ -79,7 +79,7 @@ TEST(GridBuilder, RefusesBadSpecs) {
   spec.width = -1.0;
   EXPECT_THROW(buildGrid(spec), std::invalid_argument);
   spec.width = 1.0;
-  spec.areal_density = 0.0;
+  spec.material.areal_density = 0.0;
   EXPECT_THROW(buildGrid(spec), std::invalid_argument);
 }
 

@@ -15,10 +15,10 @@ MeshSpec specFor(const TriangleMesh& mesh) {
   MeshSpec spec;
   spec.mesh = mesh;
   spec.source = "test";
-  spec.areal_density = 0.3;
-  spec.structural = 200.0;
-  spec.has_bending = true;
-  spec.bending = 5.0;
+  spec.material.areal_density = 0.3;
+  spec.material.structural = 200.0;
+  spec.material.has_bending = true;
+  spec.material.bending = 5.0;
   return spec;
 }
 
@@ -59,7 +59,7 @@ TEST(MeshBuilder, GridTriangulationGivesTheGridsTriangleSprings) {
   grid.rows = 5;
   grid.cols = 6;
   grid.shear_pattern = ShearPattern::kTriangle;
-  grid.areal_density = 0.3;
+  grid.material.areal_density = 0.3;
   const BuiltObject g = buildGrid(grid);
   const BuiltObject m = buildMeshObject(specFor(TriangleMesh{g.rest_positions, g.model.triangles}));
   auto edgeSet = [](const Model& model, bool bending) {
@@ -80,7 +80,7 @@ TEST(MeshBuilder, RefusesBadMeshesAndMaterial) {
   EXPECT_THROW(buildMeshObject(specFor(loadObj(test::sourcePath("test/data/nonmanifold.obj")))),
                std::invalid_argument);
   MeshSpec bad = specFor(loadObj(test::sourcePath("test/data/quad.obj")));
-  bad.areal_density = 0.0;
+  bad.material.areal_density = 0.0;
   EXPECT_THROW(buildMeshObject(bad), std::invalid_argument);
 }
 

@@ -1,75 +1,8 @@
 /// @file scene.h
-/// Scene files: YAML (yaml-cpp) loaded into validated, plain parameters (cartographer style:
-/// parsed into a struct and checked in one place, with a message naming field, value and rule).
+/// Scenes: read a file into data (scene_reader.h), replace what the caller overrides
+/// (scene_overrides.h), then build the simulation (scene_builder.h).
 #pragma once
 
-#include <memory>
-#include <optional>
-#include <stdexcept>
-#include <string>
-#include <vector>
-
-#include "cloth_sim/core/collision/colliders.h"
-#include "cloth_sim/core/model/grid_builder.h"
-#include "cloth_sim/core/model/mesh_builder.h"
-#include "cloth_sim/core/simulation.h"
-
-namespace cloth_sim {
-
-/// A scene file that cannot be used. what() reads
-/// "<source>: field '<path>': <value> <rule>" (or a YAML syntax error with its line).
-class SceneError : public std::runtime_error {
- public:
-  SceneError(const std::string& source, const std::string& field, const std::string& problem);
-  /// Dotted path of the offending field, e.g. "cloth.grid.rows" or "pins[2].row".
-  const std::string& field() const { return field_; }
-
- private:
-  std::string field_;
-};
-
-/// A pin as a scene declares it, resolved to a vertex index.
-struct PinSpec {
-  int vertex = -1;
-  std::optional<Vec3> target;  ///< m; empty = where the vertex rests
-  double stiffness = 0.0;      ///< N/m; 0 = hard pin
-};
-
-/// A static mesh obstacle as a scene declares it, loaded and placed in the world.
-struct MeshColliderSpec {
-  std::string file;                              ///< resolved path of the OBJ
-  std::shared_ptr<const MeshObstacle> obstacle;  ///< world frame, thickness and friction set
-};
-
-/// Everything a scene file declares, validated.
-struct SceneConfig {
-  std::string name;         ///< scene name (file stem unless given)
-  std::string description;  ///< free text
-  std::string source;       ///< file path or the name passed to parseScene
-  /// The cloth is a grid (cloth.grid) or any triangle mesh from an OBJ file (cloth.mesh).
-  enum class ClothKind { kGrid, kMesh } cloth_kind = ClothKind::kGrid;
-  /// Grid geometry, and the material of either kind (density, stiffness per family).
-  GridSpec grid;
-  MeshSpec mesh;            ///< when cloth_kind == kMesh (world coordinates, material copied)
-  double time_step = 1.0 / 60.0;  ///< s
-  Vec3 gravity = standardGravity();
-  double damping = 0.0;     ///< 1/s, Model::damping
-  SimulationOptions options;
-  std::vector<PinSpec> pins;
-  std::vector<SphereCollider> spheres;
-  std::vector<MeshColliderSpec> meshes;
-  GroundPlane ground;       ///< disabled unless the scene has colliders.ground
-};
-
-/// Parses scene YAML text; @p source names it in error messages, and relative mesh file paths
-/// are resolved against its directory. Throws SceneError.
-SceneConfig parseScene(const std::string& yaml_text, const std::string& source);
-/// Reads and parses a scene file. Throws SceneError (also when it cannot be read).
-SceneConfig loadSceneFile(const std::string& path);
-/// The cloth object (model and rest positions) the scene describes, grid or mesh, with its
-/// time step, gravity and damping set.
-BuiltObject buildCloth(const SceneConfig& scene);
-/// Builds the simulation the scene describes.
-Simulation makeSimulation(const SceneConfig& scene);
-
-}  // namespace cloth_sim
+#include "cloth_sim/core/io/scene_builder.h"
+#include "cloth_sim/core/io/scene_overrides.h"
+#include "cloth_sim/core/io/scene_reader.h"

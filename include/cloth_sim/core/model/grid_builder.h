@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include "cloth_sim/core/model/material.h"
 #include "cloth_sim/core/model/model.h"
 
 namespace cloth_sim {
@@ -21,22 +22,15 @@ enum class ShearPattern {
 /// x = -width/2 + c width/(cols-1), row r at y = +height/2 - r height/(rows-1) (row 0 on top).
 /// @c pose maps that frame into the world. Vertex index = r * cols + c.
 struct GridSpec {
-  int rows = 2;                  ///< particles along y, >= 2
-  int cols = 2;                  ///< particles along x, >= 2
-  double width = 1.0;            ///< m, along local x, > 0
-  double height = 1.0;           ///< m, along local y, > 0
+  int rows = 2;                  ///< particles along y (settings::kGridResolution)
+  int cols = 2;                  ///< particles along x (settings::kGridResolution)
+  double width = 1.0;            ///< m, along local x (settings::kGridSize)
+  double height = 1.0;           ///< m, along local y (settings::kGridSize)
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< local grid frame -> world
-  /// Areal density (kg/m^2). Each particle gets the mass of its share of the sheet (lumped:
-  /// interior cell, half at edges, a quarter at corners), so the total is density*width*height.
-  double areal_density = 0.1;
-  /// Stiffness (N/m) per family; a family with no value is not created at all.
-  bool has_structural = true;
-  double structural = 1000.0;
-  bool has_shear = true;
-  double shear = 1000.0;
-  ShearPattern shear_pattern = ShearPattern::kBoth;
-  bool has_bending = false;
-  double bending = 100.0;
+  /// Mass (lumped: each particle gets its share of the sheet, an interior cell, half at edges,
+  /// a quarter at corners, so the total is density*width*height) and stiffness per family.
+  Material material;
+  ShearPattern shear_pattern = ShearPattern::kBoth;  ///< which diagonals shear springs take
 
   /// Throws std::invalid_argument naming the bad field.
   void validate() const;

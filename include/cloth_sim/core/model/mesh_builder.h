@@ -10,17 +10,20 @@
 
 namespace cloth_sim {
 
+/// @p material without the shear family (a mesh has no quads to shear).
+inline Material withoutShear(Material material) {
+  material.has_shear = false;
+  return material;
+}
+
 /// A triangle mesh and the material that turns it into a mass-spring object.
 struct MeshSpec {
   TriangleMesh mesh;          ///< world coordinates (m); checked by validateClothSurface
   std::string source;         ///< names the mesh in error messages
-  /// Areal density (kg/m^2): each vertex gets a third of the mass of every triangle around it.
-  double areal_density = 0.1;
-  bool has_structural = true;
-  double structural = 1000.0; ///< N/m, springs on the mesh edges
-  bool has_bending = false;
-  double bending = 100.0;     ///< N/m, springs across each interior edge (between the two
-                              ///< vertices opposite it), resisting folding along that edge
+  /// Each vertex gets a third of the mass of every triangle around it; structural springs lie
+  /// on the mesh edges, bending springs across each interior edge (between the two vertices
+  /// opposite it), resisting folding along that edge. No shear family: has_shear must be false.
+  Material material = withoutShear(Material{});
 };
 
 /// Builds the particles (area-lumped masses), one structural spring per mesh edge and one

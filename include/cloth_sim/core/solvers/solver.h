@@ -20,32 +20,38 @@ enum class LinearSolver {
   kCholmod,  ///< CHOLMOD factor and CHOLMOD's own solve, x, y and z as three columns
   kEigen,    ///< Eigen SimplicialLLT (AMD) and its solve: the first implementation, kept to compare
 };
+/// Every LinearSolver, in the order of the enum.
+inline constexpr LinearSolver kLinearSolvers[] = {LinearSolver::kFused, LinearSolver::kCholmod,
+                                                  LinearSolver::kEigen};
 /// "fused", "cholmod", "eigen".
 const char* linearSolverName(LinearSolver solver);
+/// The names of kLinearSolvers.
+std::vector<std::string> linearSolverNames();
 /// The LinearSolver called @p name; throws std::invalid_argument listing the names if unknown.
 LinearSolver linearSolverFromName(const std::string& name);
 
-/// Iteration controls shared by the solvers (each uses what applies to it).
+/// Iteration controls shared by the solvers (each uses what applies to it). The allowed range
+/// of each field is its entry in settings/settings_table.h (settings::kIterations, ...).
 struct SolverSettings {
   /// Iterations per step: local/global and chebyshev run exactly this many unless tolerance
-  /// stops them first; newton uses it as a cap. Ignored by the explicit solvers. >= 1.
+  /// stops them first; newton uses it as a cap. Ignored by the explicit solvers.
   int max_iterations = 10;
   /// Stop when the convergence measure (relative position change of the last iteration, see
   /// SolveResult) drops below this. 0 = always run max_iterations (fixed real-time cost).
   double tolerance = 0.0;
-  /// chebyshev: spectral radius rho of plain local/global, in [0, 1). 0 = the upper bound
+  /// chebyshev: spectral radius rho of plain local/global, < 1. 0 = the upper bound
   /// localGlobalRhoBound (an overestimate only slows the acceleration down; an underestimate,
   /// as the former measured value was, makes the slow modes grow until the safeguard restarts).
   double chebyshev_rho = 0.0;
-  /// chebyshev: under-relaxation gamma of Wang 2015, in (0, 1]. 1 (none) converged 5-30 %
+  /// chebyshev: under-relaxation gamma of Wang 2015, at most 1. 1 (none) converged 5-30 %
   /// faster than Wang's 0.9 on the benchmark scenes.
   double chebyshev_gamma = 1.0;
-  /// chebyshev: plain local/global iterations before acceleration starts (Wang's S), >= 1.
+  /// chebyshev: plain local/global iterations before acceleration starts (Wang's S).
   int chebyshev_delay = 3;
   /// anderson: number m of past iterates whose differences form the least-squares model
-  /// (Peng et al. 2018 use 5-10), in [1, 50].
+  /// (Peng et al. 2018 use 5-10).
   int anderson_window = 5;
-  /// lbfgs: number m of (s, t) pairs kept by L-BFGS (Liu, Bouaziz, Kavan 2017 use 5), in [1, 50].
+  /// lbfgs: number m of (s, t) pairs kept by L-BFGS (Liu, Bouaziz, Kavan 2017 use 5).
   int lbfgs_window = 5;
   /// local_global, chebyshev, anderson, lbfgs: start each step from y + (x_n - y_{n-1}), the previous step's
   /// correction, instead of y, whenever that start has the lower objective g. Motion is
@@ -55,7 +61,8 @@ struct SolverSettings {
   /// How the linear systems are solved (same result, different speed), see LinearSolver.
   LinearSolver linear_solver = LinearSolver::kFused;
 
-  /// Throws std::invalid_argument naming the first field out of its range.
+  /// Throws std::invalid_argument naming the first field out of its range
+  /// ("solver.iterations = 0 must be in [1, 100000]").
   void validate() const;
 };
 
@@ -66,7 +73,8 @@ struct SolveResult {
   /// initial guess); 0 for the explicit solvers.
   double convergence = 0.0;
   bool converged = false;    ///< tolerance reached (always false when tolerance is 0)
-  /// The solver solved SolverInput::contacts with the step (local/global, chebyshev).
+  /// The solver solved SolverInput::contacts with the step (local_global, chebyshev and
+  /// anderson do when given contacts; the others never do).
   bool used_contacts = false;
 };
 
@@ -79,7 +87,9 @@ struct SolverInput {
   /// Bumped whenever h, a stiffness, a mass or the set of pins changes: a solver holding a
   /// factorization refactors when it sees a new value, and only then.
   std::uint64_t revision;
-  /// Contact forces to solve with the step (local/global and chebyshev do), or nullptr.
+  /// Contact forces to solve with the step, or nullptr. Only local_global, chebyshev and anderson
+  /// use them (lbfgs, newton, local_global_3n and the explicit solvers ignore them; Simulation
+  /// then resolves contacts after the step).
   ContactForces* contacts = nullptr;
 };
 
@@ -88,8 +98,7 @@ struct SolverInput {
 class Solver {
  public:
   virtual ~Solver() = default;
-  /// Name used to select it: "explicit_euler", "verlet", "newton", "local_global", "chebyshev",
-  /// "anderson", "lbfgs", "local_global_3n".
+  /// Name used to select it (its entry in solverRegistry(), solvers/registry.h).
   virtual const char* name() const = 0;
   /// Advances @p state by one step. May leave non-finite values on blow-up: the caller checks.
   virtual SolveResult step(const SolverInput& input, const SolverSettings& settings,
@@ -101,7 +110,7 @@ class Solver {
   int factorizations_ = 0;
 };
 
-/// The names makeSolver accepts.
+/// The names makeSolver accepts, from solverRegistry() (solvers/registry.h).
 std::vector<std::string> solverNames();
 /// A new solver by name; throws std::invalid_argument listing the valid names if unknown.
 std::unique_ptr<Solver> makeSolver(const std::string& name);

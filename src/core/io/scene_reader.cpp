@@ -1,4 +1,4 @@
-#include "cloth_sim/core/io/scene.h"
+#include "cloth_sim/core/io/scene_reader.h"
 
 #include <cmath>
 #include <fstream>
@@ -7,9 +7,15 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "cloth_sim/core/model/grid_builder.h"
+#include "cloth_sim/core/settings/settings_table.h"
 
 namespace cloth_sim {
+
+PinSelector PinSelector::atVertex(int vertex) {
+  PinSelector pin;
+  pin.vertex = vertex;
+  return pin;
+}
 
 SceneError::SceneError(const std::string& source, const std::string& field,
                        const std::string& problem)
@@ -74,26 +80,33 @@ class Reader {
     return value;
   }
 
-  /// A number that satisfies @p ok, else fails with "value V must be RULE".
-  template <typename Ok>
-  double number(const YAML::Node& node, const std::string& path, Ok ok,
-                const std::string& rule) const {
+  /// A number allowed by @p setting, else fails with "value V must be RULE".
+  double number(const YAML::Node& node, const std::string& path, const Setting& setting) const {
     const double v = number(node, path);
-    if (!ok(v)) fail(path, "value " + show(node) + " must be " + rule);
+    if (!setting.range.contains(v)) {
+      fail(path, "value " + show(node) + " must be " + setting.requirement());
+    }
     return v;
   }
 
-  int integer(const YAML::Node& node, const std::string& path, long lo, long hi) const {
-    const std::string rule = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
-    long value = 0;
+  /// An integer allowed by @p setting, else fails with "value V must be an integer RULE".
+  int integer(const YAML::Node& node, const std::string& path, const Setting& setting) const {
+    const int value = integer(node, path, "an integer " + setting.requirement());
+    if (!setting.range.contains(value)) {
+      fail(path, "value " + show(node) + " must be an integer " + setting.requirement());
+    }
+    return value;
+  }
+
+  /// Any integer (an index the builder checks), else fails with "value V must be @p rule".
+  int integer(const YAML::Node& node, const std::string& path,
+              const std::string& rule = "an integer") const {
     if (!node.IsScalar()) fail(path, "value " + show(node) + " must be " + rule);
     try {
-      value = node.as<long>();
+      return node.as<int>();
     } catch (const std::exception&) {
       fail(path, "value " + show(node) + " must be " + rule);
     }
-    if (value < lo || value > hi) fail(path, "value " + show(node) + " must be " + rule);
-    return static_cast<int>(value);
   }
 
   Vec3 vec3(const YAML::Node& node, const std::string& path) const {
@@ -123,47 +136,46 @@ class Reader {
   std::string source_;
 };
 
-const auto kPositive = [](double v) { return v > 0.0; };
-const auto kNonNegative = [](double v) { return v >= 0.0; };
-
 void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& options) {
   const std::string path = "solver";
   r.map(node, path, {"name", "iterations", "tolerance", "chebyshev", "anderson", "lbfgs"});
   if (node["name"]) {
     options.solver = r.text(node["name"], path + ".name");
     try {
-      makeSolver(options.solver);
+      makeSolver(options.solver);  // throws the message listing the names
     } catch (const std::invalid_argument& e) {
       r.fail(path + ".name", e.what());
     }
   }
   SolverSettings& s = options.settings;
-  if (node["iterations"]) s.max_iterations = r.integer(node["iterations"], path + ".iterations", 1, 100000);
+  if (node["iterations"]) {
+    s.max_iterations = r.integer(node["iterations"], path + ".iterations", settings::kIterations);
+  }
   if (node["tolerance"]) {
-    s.tolerance = r.number(node["tolerance"], path + ".tolerance", kNonNegative, ">= 0");
+    s.tolerance = r.number(node["tolerance"], path + ".tolerance", settings::kTolerance);
   }
   if (const YAML::Node c = node["chebyshev"]) {
     const std::string cp = path + ".chebyshev";
     r.map(c, cp, {"rho", "gamma", "delay"});
-    if (c["rho"]) {
-      s.chebyshev_rho = r.number(c["rho"], cp + ".rho", [](double v) { return v >= 0 && v < 1; },
-                                 "in [0, 1) (0 = measure it)");
-    }
+    if (c["rho"]) s.chebyshev_rho = r.number(c["rho"], cp + ".rho", settings::kChebyshevRho);
     if (c["gamma"]) {
-      s.chebyshev_gamma = r.number(c["gamma"], cp + ".gamma",
-                                   [](double v) { return v > 0 && v <= 1; }, "in (0, 1]");
+      s.chebyshev_gamma = r.number(c["gamma"], cp + ".gamma", settings::kChebyshevGamma);
     }
-    if (c["delay"]) s.chebyshev_delay = r.integer(c["delay"], cp + ".delay", 1, 1000);
+    if (c["delay"]) {
+      s.chebyshev_delay = r.integer(c["delay"], cp + ".delay", settings::kChebyshevDelay);
+    }
   }
   if (const YAML::Node a = node["anderson"]) {
     const std::string ap = path + ".anderson";
     r.map(a, ap, {"window"});
-    if (a["window"]) s.anderson_window = r.integer(a["window"], ap + ".window", 1, 50);
+    if (a["window"]) {
+      s.anderson_window = r.integer(a["window"], ap + ".window", settings::kAndersonWindow);
+    }
   }
   if (const YAML::Node l = node["lbfgs"]) {
     const std::string lp = path + ".lbfgs";
     r.map(l, lp, {"window"});
-    if (l["window"]) s.lbfgs_window = r.integer(l["window"], lp + ".window", 1, 50);
+    if (l["window"]) s.lbfgs_window = r.integer(l["window"], lp + ".window", settings::kLbfgsWindow);
   }
 }
 
@@ -184,7 +196,7 @@ TriangleMesh readPlacedMesh(const Reader& r, const YAML::Node& node, const std::
   if (!node["file"]) r.fail(path + ".file", "is required (an OBJ file)");
   resolved = r.resolve(r.text(node["file"], path + ".file"));
   double scale = 1.0;
-  if (node["scale"]) scale = r.number(node["scale"], path + ".scale", kPositive, "> 0");
+  if (node["scale"]) scale = r.number(node["scale"], path + ".scale", settings::kMeshScale);
   try {
     return loadObj(resolved).transformed(readPose(r, node, path), scale);
   } catch (const std::invalid_argument& e) {
@@ -212,100 +224,75 @@ void readGrid(const Reader& r, const YAML::Node& node, GridSpec& grid) {
   if (!node["rows"]) r.fail(path + ".rows", "is required");
   if (!node["cols"]) r.fail(path + ".cols", "is required");
   if (!node["size"]) r.fail(path + ".size", "is required ([width, height] in m)");
-  grid.rows = r.integer(node["rows"], path + ".rows", 2, 2000);
-  grid.cols = r.integer(node["cols"], path + ".cols", 2, 2000);
+  grid.rows = r.integer(node["rows"], path + ".rows", settings::kGridResolution);
+  grid.cols = r.integer(node["cols"], path + ".cols", settings::kGridResolution);
   const YAML::Node size = node["size"];
   if (!size.IsSequence() || size.size() != 2) {
     r.fail(path + ".size", "value " + Reader::show(size) + " must be [width, height] in m");
   }
-  grid.width = r.number(size[0], path + ".size[0]", kPositive, "> 0 (width, m)");
-  grid.height = r.number(size[1], path + ".size[1]", kPositive, "> 0 (height, m)");
+  grid.width = r.number(size[0], path + ".size[0]", settings::kGridSize);
+  grid.height = r.number(size[1], path + ".size[1]", settings::kGridSize);
   grid.pose = readPose(r, node, path);
 }
 
 void readMaterial(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
   const std::string path = "material";
   r.map(node, path, {"areal_density", "damping", "springs", "shear_pattern"});
-  GridSpec& grid = scene.grid;
+  const bool mesh = scene.cloth_kind == SceneConfig::ClothKind::kMesh;
+  Material& material = mesh ? scene.mesh.material : scene.grid.material;
   if (node["areal_density"]) {
-    grid.areal_density =
-        r.number(node["areal_density"], path + ".areal_density", kPositive, "> 0 kg/m^2");
+    material.areal_density =
+        r.number(node["areal_density"], path + ".areal_density", settings::kArealDensity);
   }
   if (node["damping"]) {
-    scene.damping = r.number(node["damping"], path + ".damping", kNonNegative, ">= 0 (1/s)");
+    scene.damping = r.number(node["damping"], path + ".damping", settings::kDamping);
   }
   if (!node["springs"]) r.fail(path + ".springs", "is required (stiffness per family, N/m)");
   const YAML::Node springs = node["springs"];
   const std::string sp = path + ".springs";
   r.map(springs, sp, {"structural", "shear", "bending"});
-  auto family = [&](const char* key, bool& has, double& k) {
+  auto family = [&](const char* key, const Setting& setting, bool& has, double& k) {
     has = static_cast<bool>(springs[key]);
-    if (has) k = r.number(springs[key], sp + "." + key, kNonNegative, ">= 0 N/m");
+    if (has) k = r.number(springs[key], sp + "." + key, setting);
   };
-  family("structural", grid.has_structural, grid.structural);
-  family("shear", grid.has_shear, grid.shear);
-  family("bending", grid.has_bending, grid.bending);
-  if (!grid.has_structural && !grid.has_shear && !grid.has_bending) {
+  family("structural", settings::kStructuralStiffness, material.has_structural,
+         material.structural);
+  family("shear", settings::kShearStiffness, material.has_shear, material.shear);
+  family("bending", settings::kBendingStiffness, material.has_bending, material.bending);
+  if (!material.has_structural && !material.has_shear && !material.has_bending) {
     r.fail(sp, "must declare at least one family (structural, shear, bending)");
   }
   if (node["shear_pattern"]) {
     const std::string p = r.text(node["shear_pattern"], path + ".shear_pattern");
-    if (p == "both") grid.shear_pattern = ShearPattern::kBoth;
-    else if (p == "triangle") grid.shear_pattern = ShearPattern::kTriangle;
+    if (p == "both") scene.grid.shear_pattern = ShearPattern::kBoth;
+    else if (p == "triangle") scene.grid.shear_pattern = ShearPattern::kTriangle;
     else r.fail(path + ".shear_pattern", "value '" + p + "' must be 'both' or 'triangle'");
   }
-  if (scene.cloth_kind == SceneConfig::ClothKind::kMesh) {
+  if (mesh) {
     const std::string why = "a mesh cloth has springs on its edges (structural) and across them "
                             "(bending) only";
-    if (grid.has_shear) r.fail(sp + ".shear", why);
+    if (material.has_shear) r.fail(sp + ".shear", why);
     if (node["shear_pattern"]) r.fail(path + ".shear_pattern", why);
-    MeshSpec& mesh = scene.mesh;
-    mesh.areal_density = grid.areal_density;
-    mesh.has_structural = grid.has_structural;
-    mesh.structural = grid.structural;
-    mesh.has_bending = grid.has_bending;
-    mesh.bending = grid.bending;
   }
 }
 
-/// Vertices of a grid edge: "top" (row 0), "bottom", "left" (col 0), "right" or "all".
-std::vector<int> edgeVertices(const GridSpec& g, const std::string& edge) {
-  std::vector<int> out;
-  const bool all = edge == "all";
-  for (int r = 0; r < g.rows; ++r) {
-    for (int c = 0; c < g.cols; ++c) {
-      if ((all || edge == "top") && r == 0) out.push_back(gridVertex(r, c, g.cols));
-      else if ((all || edge == "bottom") && r == g.rows - 1) out.push_back(gridVertex(r, c, g.cols));
-      else if ((all || edge == "left") && c == 0) out.push_back(gridVertex(r, c, g.cols));
-      else if ((all || edge == "right") && c == g.cols - 1) out.push_back(gridVertex(r, c, g.cols));
-    }
-  }
-  return out;
-}
-
-/// Vertices whose rest position lies in the box {min: [x,y,z], max: [x,y,z]} (m, world).
-std::vector<int> regionVertices(const Reader& r, const YAML::Node& node, const std::string& path,
-                                const Points& rest) {
+/// A box {min: [x,y,z], max: [x,y,z]} (m, world) with min <= max on every axis.
+Eigen::AlignedBox3d readRegion(const Reader& r, const YAML::Node& node, const std::string& path) {
   r.map(node, path, {"min", "max"});
   if (!node["min"] || !node["max"]) r.fail(path, "needs 'min' and 'max' corners [x, y, z] in m");
   const Eigen::AlignedBox3d box(r.vec3(node["min"], path + ".min"), r.vec3(node["max"], path + ".max"));
   if (box.isEmpty()) r.fail(path, "'min' must not exceed 'max' on any axis");
-  std::vector<int> out;
-  for (Eigen::Index v = 0; v < rest.cols(); ++v) {
-    if (box.contains(Vec3(rest.col(v)))) out.push_back(static_cast<int>(v));
-  }
-  if (out.empty()) r.fail(path, "contains no vertex of the cloth");
-  return out;
+  return box;
 }
 
+/// Each entry's form; indices are checked against the cloth by resolvePins.
 void readPins(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
   if (!node.IsSequence()) r.fail("pins", "value " + Reader::show(node) + " must be a list");
   const bool grid = scene.cloth_kind == SceneConfig::ClothKind::kGrid;
-  const GridSpec& g = scene.grid;
-  const Points rest = buildCloth(scene).rest_positions;
-  std::set<int> used;
   for (std::size_t k = 0; k < node.size(); ++k) {
-    const std::string path = "pins[" + std::to_string(k) + "]";
+    PinSelector pin;
+    pin.field = "pins[" + std::to_string(k) + "]";
+    const std::string& path = pin.field;
     const YAML::Node p = node[k];
     r.map(p, path, {"vertex", "row", "col", "edge", "region", "target", "stiffness"});
     const bool by_cell = p["row"] || p["col"];
@@ -317,43 +304,33 @@ void readPins(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
     if (!grid && (by_cell || p["edge"])) {
       r.fail(path, "'row', 'col' and 'edge' need a grid cloth; use 'vertex' or 'region'");
     }
-    double stiffness = 0.0;
     if (p["stiffness"]) {
-      stiffness = r.number(p["stiffness"], path + ".stiffness", kNonNegative,
-                           ">= 0 N/m (0 = hard pin)");
+      pin.stiffness = r.number(p["stiffness"], path + ".stiffness", settings::kPinStiffness);
     }
     if (p["edge"] || p["region"]) {
       if (p["target"]) r.fail(path + ".target", "is only allowed for a single-vertex pin");
-      std::vector<int> vertices;
       if (p["region"]) {
-        vertices = regionVertices(r, p["region"], path + ".region", rest);
+        pin.kind = PinSelector::Kind::kRegion;
+        pin.region = readRegion(r, p["region"], path + ".region");
       } else {
-        const std::string edge = r.text(p["edge"], path + ".edge");
-        if (edge != "top" && edge != "bottom" && edge != "left" && edge != "right" && edge != "all") {
-          r.fail(path + ".edge", "value '" + edge + "' must be top, bottom, left, right or all");
+        pin.kind = PinSelector::Kind::kEdge;
+        pin.edge = r.text(p["edge"], path + ".edge");
+        const std::string& e = pin.edge;
+        if (e != "top" && e != "bottom" && e != "left" && e != "right" && e != "all") {
+          r.fail(path + ".edge", "value '" + e + "' must be top, bottom, left, right or all");
         }
-        vertices = edgeVertices(g, edge);
       }
-      // Vertices already pinned by an earlier entry (shared corners) are pinned once.
-      for (int v : vertices) {
-        if (used.insert(v).second) scene.pins.push_back(PinSpec{v, std::nullopt, stiffness});
-      }
-      continue;
-    }
-    PinSpec pin;
-    pin.stiffness = stiffness;
-    if (p["vertex"]) {
-      pin.vertex = r.integer(p["vertex"], path + ".vertex", 0, static_cast<long>(rest.cols()) - 1);
+    } else if (p["vertex"]) {
+      pin.kind = PinSelector::Kind::kVertex;
+      pin.vertex = r.integer(p["vertex"], path + ".vertex");
     } else {
       if (!p["row"] || !p["col"]) r.fail(path, "give both 'row' and 'col'");
-      pin.vertex = gridVertex(r.integer(p["row"], path + ".row", 0, g.rows - 1),
-                              r.integer(p["col"], path + ".col", 0, g.cols - 1), g.cols);
-    }
-    if (!used.insert(pin.vertex).second) {
-      r.fail(path, "vertex " + std::to_string(pin.vertex) + " is already pinned");
+      pin.kind = PinSelector::Kind::kCell;
+      pin.row = r.integer(p["row"], path + ".row");
+      pin.col = r.integer(p["col"], path + ".col");
     }
     if (p["target"]) pin.target = r.vec3(p["target"], path + ".target");
-    scene.pins.push_back(pin);
+    scene.pins.push_back(std::move(pin));
   }
 }
 
@@ -366,8 +343,10 @@ void readMeshColliders(const Reader& r, const YAML::Node& node, SceneConfig& sce
     MeshColliderSpec spec;
     TriangleMesh mesh = readPlacedMesh(r, m, path, spec.file);
     double thickness = 0.005, friction = 0.0;
-    if (m["thickness"]) thickness = r.number(m["thickness"], path + ".thickness", kPositive, "> 0 m");
-    if (m["friction"]) friction = r.number(m["friction"], path + ".friction", kNonNegative, ">= 0");
+    if (m["thickness"]) {
+      thickness = r.number(m["thickness"], path + ".thickness", settings::kMeshThickness);
+    }
+    if (m["friction"]) friction = r.number(m["friction"], path + ".friction", settings::kFriction);
     try {
       spec.obstacle = std::make_shared<const MeshObstacle>(std::move(mesh), thickness, friction);
     } catch (const std::invalid_argument& e) {
@@ -390,17 +369,15 @@ void readColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) 
       if (!s["radius"]) r.fail(path + ".radius", "is required");
       SphereCollider sphere;
       sphere.center = r.vec3(s["center"], path + ".center");
-      sphere.radius = r.number(s["radius"], path + ".radius", kPositive, "> 0 m");
+      sphere.radius = r.number(s["radius"], path + ".radius", settings::kSphereRadius);
       if (s["velocity"]) sphere.velocity = r.vec3(s["velocity"], path + ".velocity");
       if (s["friction"]) {
-        sphere.friction = r.number(s["friction"], path + ".friction", kNonNegative, ">= 0");
+        sphere.friction = r.number(s["friction"], path + ".friction", settings::kFriction);
       }
-      if (s["mass"]) {
-        sphere.mass = r.number(s["mass"], path + ".mass", kNonNegative, ">= 0 kg (0 = kinematic)");
-      }
+      if (s["mass"]) sphere.mass = r.number(s["mass"], path + ".mass", settings::kSphereMass);
       if (s["restitution"]) {
-        sphere.restitution = r.number(s["restitution"], path + ".restitution",
-                                      [](double v) { return v >= 0.0 && v <= 1.0; }, "in [0, 1]");
+        sphere.restitution =
+            r.number(s["restitution"], path + ".restitution", settings::kRestitution);
       }
       scene.spheres.push_back(sphere);
     }
@@ -411,7 +388,7 @@ void readColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) 
     if (ground["height"]) scene.ground.height = r.number(ground["height"], "colliders.ground.height");
     if (ground["friction"]) {
       scene.ground.friction =
-          r.number(ground["friction"], "colliders.ground.friction", kNonNegative, ">= 0");
+          r.number(ground["friction"], "colliders.ground.friction", settings::kFriction);
     }
   }
 }
@@ -435,14 +412,13 @@ SceneConfig parseScene(const std::string& yaml_text, const std::string& source) 
   if (root["name"]) scene.name = r.text(root["name"], "name");
   if (root["description"]) scene.description = r.text(root["description"], "description");
   if (root["time_step"]) {
-    scene.time_step = r.number(root["time_step"], "time_step",
-                               [](double v) { return v > 0 && v <= 1.0; }, "in (0, 1] s");
+    scene.time_step = r.number(root["time_step"], "time_step", settings::kTimeStep);
   }
   if (root["gravity"]) scene.gravity = r.vec3(root["gravity"], "gravity");
   if (root["solver"]) readSolver(r, root["solver"], scene.options);
   if (root["divergence_strain"]) {
     scene.options.divergence_strain =
-        r.number(root["divergence_strain"], "divergence_strain", kPositive, "> 0");
+        r.number(root["divergence_strain"], "divergence_strain", settings::kDivergenceStrain);
   }
   if (!root["cloth"]) r.fail("cloth", "is required");
   const YAML::Node cloth = root["cloth"];
@@ -471,30 +447,6 @@ SceneConfig loadSceneFile(const std::string& path) {
     scene.name = stem.substr(0, stem.rfind('.'));
   }
   return scene;
-}
-
-BuiltObject buildCloth(const SceneConfig& scene) {
-  BuiltObject object = scene.cloth_kind == SceneConfig::ClothKind::kGrid ? buildGrid(scene.grid)
-                                                                         : buildMeshObject(scene.mesh);
-  object.model.time_step = scene.time_step;
-  object.model.gravity = scene.gravity;
-  object.model.damping = scene.damping;
-  return object;
-}
-
-Simulation makeSimulation(const SceneConfig& scene) {
-  BuiltObject object = buildCloth(scene);
-  PinSet pins;
-  for (const PinSpec& p : scene.pins) {
-    pins.add(p.vertex, p.target.value_or(Vec3(object.rest_positions.col(p.vertex))), p.stiffness,
-             object.model.particleCount());
-  }
-  Colliders colliders;
-  for (const SphereCollider& s : scene.spheres) colliders.addSphere(s);
-  for (const MeshColliderSpec& m : scene.meshes) colliders.addMesh(m.obstacle);
-  colliders.setGround(scene.ground);
-  return Simulation(std::move(object.model), object.rest_positions, std::move(pins),
-                    std::move(colliders), scene.options);
 }
 
 }  // namespace cloth_sim

@@ -1,0 +1,72 @@
+/// @file settings_table.h
+/// Every tunable number of cloth_sim, once: its name, allowed range, unit and meaning. The scene
+/// reader, SolverSettings::validate, the model and collider builders, the node's parameters and
+/// services, the runner's options and cfg/ClothSim.cfg (compared by a test) all take their rule
+/// from here. The scene fields are described in docs/scene_format.md.
+///
+/// Adding a setting: one line below (and in kAllSettings), then use it where it is read.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cloth_sim/core/settings/range.h"
+
+namespace cloth_sim {
+
+/// One tunable number.
+struct Setting {
+  const char* name;   ///< identifier, as the scene field where there is one ("solver.iterations")
+  const char* param;  ///< the node's parameter / dynamic_reconfigure name, "" if not exposed
+  Range range;        ///< allowed values
+  bool integer;       ///< an int field (the range ends are then integers too)
+  const char* unit;   ///< SI unit, "" when dimensionless
+  const char* note;   ///< what a special value means, e.g. "(0 = hard pin)", or ""
+  const char* doc;    ///< one line for users (cfg, --help)
+  /// dynamic_reconfigure slider end for a range with no upper bound (0 when not on a slider).
+  double slider_max;
+
+  /// The rule with its unit and note: "> 0 m", "in [0, 1) (0 = measure it)".
+  std::string requirement() const;
+  /// Throws std::invalid_argument "<name> = <value> must be <requirement>" unless allowed.
+  void require(double value) const;
+};
+
+namespace settings {
+// clang-format off
+//                                  name                         param                   range                              int    unit      note                 doc                                                   slider
+inline constexpr Setting kIterations{"solver.iterations",       "iterations",           Range::closed(1, 100000),           true,  "",       "",                  "Solver iterations per step (a cap for newton)",     0};
+inline constexpr Setting kTolerance{"solver.tolerance",         "",                     Range::atLeast(0),                  false, "",       "",                  "Stop below this relative position change (0 = never)", 0};
+inline constexpr Setting kChebyshevRho{"solver.chebyshev.rho",  "",                     Range{0, 1, false, true},           false, "",       "(0 = measure it)",  "Spectral radius of plain local/global",              0};
+inline constexpr Setting kChebyshevGamma{"solver.chebyshev.gamma", "",                  Range{0, 1, true, false},           false, "",       "",                  "Under-relaxation of Wang 2015",                      0};
+inline constexpr Setting kChebyshevDelay{"solver.chebyshev.delay", "",                  Range::closed(1, 1000),             true,  "",       "",                  "Plain iterations before the acceleration starts",    0};
+inline constexpr Setting kAndersonWindow{"solver.anderson.window", "",                  Range::closed(1, 50),               true,  "",       "",                  "Past iterates in Anderson's least-squares model",    0};
+inline constexpr Setting kLbfgsWindow{"solver.lbfgs.window",    "",                     Range::closed(1, 50),               true,  "",       "",                  "(s, t) pairs kept by L-BFGS",                        0};
+inline constexpr Setting kTimeStep{"time_step",                 "",                     Range{0, 1, true, false},           false, "s",      "",                  "Time step h",                                        0};
+inline constexpr Setting kDivergenceStrain{"divergence_strain", "",                     Range::above(0),                    false, "",       "",                  "Strain beyond which a step counts as diverged",      0};
+inline constexpr Setting kArealDensity{"material.areal_density", "",                    Range::above(0),                    false, "kg/m^2", "",                  "Mass per area of the cloth",                         0};
+inline constexpr Setting kDamping{"material.damping",           "damping",              Range::atLeast(0),                  false, "1/s",    "",                  "Linear drag rate gamma (1/s): velocity decays as exp(-gamma t)", 100};
+inline constexpr Setting kStructuralStiffness{"material.springs.structural", "structural_stiffness", Range::atLeast(0), false, "N/m",    "",                  "Stiffness of every structural spring (N/m)",         100000};
+inline constexpr Setting kShearStiffness{"material.springs.shear", "shear_stiffness",   Range::atLeast(0),                  false, "N/m",    "",                  "Stiffness of every shear spring (N/m)",              100000};
+inline constexpr Setting kBendingStiffness{"material.springs.bending", "bending_stiffness", Range::atLeast(0),               false, "N/m",    "",                  "Stiffness of every bending spring (N/m)",            100000};
+inline constexpr Setting kGridResolution{"cloth.grid.rows",     "",                     Range::closed(2, 2000),             true,  "",       "",                  "Particles along each side of a grid cloth",          0};
+inline constexpr Setting kGridSize{"cloth.grid.size",           "",                     Range::above(0),                    false, "m",      "",                  "Width and height of a grid cloth",                   0};
+inline constexpr Setting kMeshScale{"scale",                    "",                     Range::above(0),                    false, "",       "",                  "Uniform scale of an OBJ file",                       0};
+inline constexpr Setting kMeshThickness{"thickness",            "",                     Range::above(0),                    false, "m",      "",                  "Contact distance of a mesh obstacle",                0};
+inline constexpr Setting kPinStiffness{"pin.stiffness",         "stiffness",            Range::atLeast(0),                  false, "N/m",    "(0 = hard pin)",    "Stiffness of a soft pin",                            0};
+inline constexpr Setting kSphereRadius{"sphere.radius",         "radius",               Range::above(0),                    false, "m",      "",                  "Radius of a sphere collider",                        0};
+inline constexpr Setting kSphereMass{"sphere.mass",             "mass",                 Range::atLeast(0),                  false, "kg",     "(0 = kinematic)",   "Mass of a sphere (0: moves at its velocity)",       0};
+inline constexpr Setting kRestitution{"sphere.restitution",     "restitution",          Range::closed(0, 1),                false, "",       "",                  "Share of the normal speed a sphere keeps on impact", 0};
+inline constexpr Setting kFriction{"friction",                  "friction",             Range::atLeast(0),                  false, "",       "",                  "Coulomb friction coefficient mu",                    0};
+// clang-format on
+
+/// Every setting above, in that order.
+inline constexpr const Setting* kAllSettings[] = {
+    &kIterations,  &kTolerance,           &kChebyshevRho,    &kChebyshevGamma,   &kChebyshevDelay,
+    &kAndersonWindow, &kLbfgsWindow,      &kTimeStep,        &kDivergenceStrain, &kArealDensity,
+    &kDamping,     &kStructuralStiffness, &kShearStiffness,  &kBendingStiffness, &kGridResolution,
+    &kGridSize,    &kMeshScale,           &kMeshThickness,   &kPinStiffness,     &kSphereRadius,
+    &kSphereMass,  &kRestitution,         &kFriction};
+}  // namespace settings
+
+}  // namespace cloth_sim
