@@ -258,11 +258,11 @@ Outcome runScene(const SceneParams& p, const Config& c) {
   GridSpec g;
   g.rows = g.cols = p.n;
   g.width = g.height = p.size;
-  g.areal_density = 0.2;
-  g.structural = 400;
-  g.shear = 40;
-  g.has_bending = true;
-  g.bending = 4;
+  g.material.areal_density = 0.2;
+  g.material.structural = 400;
+  g.material.shear = 40;
+  g.material.has_bending = true;
+  g.material.bending = 4;
   g.pose = Eigen::Translation3d(p.cloth_center) * Eigen::AngleAxisd(p.yaw, Vec3::UnitZ());
   BuiltObject obj = buildGrid(g);
   obj.model.damping = 0.1;
