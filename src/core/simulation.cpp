@@ -1,6 +1,7 @@
 #include "cloth_sim/core/simulation.h"
 
 #include <chrono>
+#include <utility>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -45,6 +46,8 @@ Simulation::Simulation(Model model, const Points& rest_positions, PinSet pins,
       throw std::invalid_argument("pin " + std::to_string(p.id) + ": vertex out of range");
     }
   }
+  frame_time_ = model_.time_step;
+  model_.time_step = frame_time_ / options_.settings.substeps;
   state_ = State::atRest(rest_positions);
   initial_state_ = state_;
   initial_pins_ = pins_;
@@ -61,30 +64,21 @@ void Simulation::rebuildMovableMask() {
 }
 
 StepReport Simulation::step() {
-  using Clock = std::chrono::steady_clock;
-  const auto t0 = Clock::now();
+  const auto t0 = std::chrono::steady_clock::now();
   const State before = state_;
   const Colliders colliders_before = colliders_;
-  const double h = model_.time_step;
-
-  colliders_.advance(h, model_.gravity, velocityDecay(model_));
-  const CollisionStep collision{h, model_.mass, movable_, before.positions};
-  if (!colliders_.empty()) contacts_.beginStep(collision, colliders_);
-  const SolverInput input{model_, pins_, revision_, colliders_.empty() ? nullptr : &contacts_};
-  const auto t_solve = Clock::now();
-  const SolveResult solved = solver_->step(input, options_.settings, state_);
-  const auto t1 = Clock::now();
-
+  const int n = options_.settings.substeps;
+  bool pins_moved = false;
+  for (const auto& [id, target] : frame_targets_) {
+    const Pin* pin = pins_.find(id);
+    pins_moved = pins_moved || (pin != nullptr && pin->target != target);
+  }
+  PinSet pins_at = pins_moved ? pins_ : PinSet();
+  applySphereJumps(+1.0);
   StepReport report;
-  report.iterations = solved.iterations;
-  report.convergence = solved.convergence;
-  report.converged = solved.converged;
-  if (!colliders_.empty()) {
-    // Only a solver that solved the contacts this step has fresh ball positions to hand over.
-    if (solved.used_contacts) contacts_.finish(colliders_);
-    report.contacts = resolveCollisions(collision, colliders_, state_.positions, state_.velocities,
-                                        solved.used_contacts);
-    report.contacts += resolveSphereImpacts(colliders_, 2.0 * model_.gravity.norm() * h);
+  for (int k = 1; k <= n; ++k) {
+    if (pins_moved) interpolatePins(static_cast<double>(k) / n, pins_at);
+    substep(pins_moved ? pins_at : pins_, report);
   }
   report.max_strain = maxStrain(model_.springs, state_.positions);
 
@@ -104,20 +98,74 @@ StepReport Simulation::step() {
     msg << " at t = " << before.time << " s; rolled back to that state with zero velocities"
         << " (cloth and dynamic spheres)";
     report.message = msg.str();
-    state_ = before;
-    state_.velocities.setZero();
-    colliders_ = colliders_before;
-    for (SphereCollider& s : colliders_.mutableSpheres()) {
-      if (!s.isDynamic()) continue;
-      s.velocity.setZero();
-      s.angular_velocity.setZero();
-    }
-    contacts_ = ContactForces();  // forget the warm start that led there
+    rollBack(before, colliders_before);
     report.max_strain = maxStrain(model_.springs, state_.positions);
+  } else {
+    applySphereJumps(-1.0);
   }
-  report.solve_time = std::chrono::duration<double>(t1 - t_solve).count();
-  report.wall_time = std::chrono::duration<double>(Clock::now() - t0).count();
+  sphere_jumps_.clear();
+  frame_targets_.clear();
+  for (const Pin& pin : pins_.pins()) frame_targets_.emplace_back(pin.id, pin.target);
+  report.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;
+}
+
+void Simulation::substep(const PinSet& pins, StepReport& report) {
+  const double h = model_.time_step;
+  const Points start = state_.positions;
+  colliders_.advance(h, model_.gravity, velocityDecay(model_));
+  const CollisionStep collision{h, model_.mass, movable_, start};
+  if (!colliders_.empty()) contacts_.beginStep(collision, colliders_);
+  const SolverInput input{model_, pins, revision_, colliders_.empty() ? nullptr : &contacts_};
+  const auto t_solve = std::chrono::steady_clock::now();
+  const SolveResult solved = solver_->step(input, options_.settings, state_);
+  report.solve_time +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_solve).count();
+  ++report.substeps;
+  report.iterations = solved.iterations;
+  report.convergence = solved.convergence;
+  report.converged = solved.converged;
+  if (colliders_.empty()) return;
+  // Only a solver that solved the contacts this step has fresh ball positions to hand over.
+  if (solved.used_contacts) contacts_.finish(colliders_);
+  report.contacts += resolveCollisions(collision, colliders_, state_.positions, state_.velocities,
+                                       solved.used_contacts);
+  report.contacts += resolveSphereImpacts(colliders_, 2.0 * model_.gravity.norm() * h);
+}
+
+void Simulation::interpolatePins(double s, PinSet& pins_at) const {
+  for (const auto& [id, from] : frame_targets_) {
+    const Pin* pin = pins_.find(id);
+    if (pin != nullptr && pin->target != from) {
+      pins_at.moveTarget(id, from + s * (pin->target - from));
+    }
+  }
+}
+
+void Simulation::applySphereJumps(double sign) {
+  for (const SphereJump& jump : sphere_jumps_) {
+    const SphereCollider* s = colliders_.findSphere(jump.id);
+    if (s == nullptr) continue;
+    colliders_.moveSphere(jump.id, s->center, s->velocity + sign * jump.displacement / frame_time_);
+  }
+}
+
+void Simulation::rollBack(const State& state, const Colliders& colliders) {
+  state_ = state;
+  state_.velocities.setZero();
+  colliders_ = colliders;
+  for (SphereCollider& s : colliders_.mutableSpheres()) {
+    if (!s.isDynamic()) continue;
+    s.velocity.setZero();
+    s.angular_velocity.setZero();
+  }
+  // The user's sphere moves of this frame stand: those spheres go where they were sent.
+  for (const SphereJump& jump : sphere_jumps_) {
+    if (const SphereCollider* s = colliders_.findSphere(jump.id)) {
+      colliders_.moveSphere(jump.id, s->center + jump.displacement, s->velocity);
+    }
+  }
+  contacts_ = ContactForces();  // forget the warm start that led there
 }
 
 void Simulation::reset() {
@@ -134,6 +182,8 @@ void Simulation::reset() {
   }
   pins_ = initial_pins_;
   colliders_ = initial_colliders_;
+  frame_targets_.clear();
+  sphere_jumps_.clear();
   rebuildMovableMask();
 }
 
@@ -164,7 +214,19 @@ int Simulation::addSphere(const SphereCollider& sphere) { return colliders_.addS
 void Simulation::removeSphere(int id) { colliders_.removeSphere(id); }
 
 void Simulation::moveSphere(int id, const Vec3& center, const Vec3& velocity) {
-  colliders_.moveSphere(id, center, velocity);
+  const SphereCollider* s = colliders_.findSphere(id);
+  const Vec3 from = s != nullptr ? s->center : center;
+  colliders_.moveSphere(id, center, velocity);  // validates; throws for an unknown id
+  if (colliders_.findSphere(id)->isDynamic()) return;  // a ball is placed at once
+  // A kinematic sphere goes there across the next frame's substeps, sweeping the cloth.
+  colliders_.moveSphere(id, from, velocity);
+  for (SphereJump& jump : sphere_jumps_) {
+    if (jump.id == id) {
+      jump.displacement = center - from;
+      return;
+    }
+  }
+  sphere_jumps_.push_back({id, center - from});
 }
 
 void Simulation::setGround(const GroundPlane& ground) { colliders_.setGround(ground); }
@@ -195,8 +257,9 @@ void Simulation::setTimeStep(double h) {
   if (!std::isfinite(h) || h <= 0.0) {
     throw std::invalid_argument("time step " + std::to_string(h) + " s must be finite and > 0");
   }
-  if (h == model_.time_step) return;
-  model_.time_step = h;
+  if (h == frame_time_) return;
+  frame_time_ = h;
+  model_.time_step = h / options_.settings.substeps;
   ++revision_;
 }
 
@@ -209,6 +272,10 @@ void Simulation::setSolver(const std::string& name) {
 
 void Simulation::setSolverSettings(const SolverSettings& settings) {
   settings.validate();
+  if (settings.substeps != options_.settings.substeps) {
+    model_.time_step = frame_time_ / settings.substeps;
+    ++revision_;
+  }
   options_.settings = settings;
 }
 

@@ -77,7 +77,7 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
   }
 
   window_start_ = ros::SteadyTime::now();
-  const double h = sim_.model().time_step;
+  const double h = sim_.frameTime();
   step_timer_ = nh_.createSteadyTimer(ros::WallDuration(h), &ClothSimNode::step, this);
   render_timer_ = nh_.createSteadyTimer(ros::WallDuration(1.0 / options_.render_rate),
                                         &ClothSimNode::render, this);
@@ -89,9 +89,10 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
                                            &ClothSimNode::logSummary, this);
   }
   ROS_INFO("cloth_sim_node: scene '%s' (%d particles, %zu springs, %zu pins), solver %s with "
-           "%d iterations, step %.4f s, markers at %.1f Hz in frame '%s'",
+           "%d substeps of %d iterations, frame %.4f s, markers at %.1f Hz in frame '%s'",
            scene_name_.c_str(), sim_.model().particleCount(), sim_.model().springs.size(),
-           sim_.pins().size(), sim_.solver().name(), sim_.solverSettings().max_iterations, h,
+           sim_.pins().size(), sim_.solver().name(), sim_.solverSettings().substeps,
+           sim_.solverSettings().max_iterations, h,
            options_.render_rate, options_.frame_id.c_str());
 }
 
@@ -100,7 +101,7 @@ void ClothSimNode::step(const ros::SteadyTimerEvent&) {
   ++steps_since_reset_;
   const bool rolled_back = last_report_.status != StepStatus::kOk;
   if (rolled_back) warnThrottled("rolled back", "step: " + last_report_.message);
-  else window_sim_time_ += sim_.model().time_step;
+  else window_sim_time_ += sim_.frameTime();
   const bool must_reset = monitor_.record(rolled_back, last_report_.wall_time);
 
   if (state_pub_.getNumSubscribers() > 0) {  // the message costs an energy pass
@@ -194,7 +195,8 @@ void ClothSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status)
   status.summary(static_cast<std::uint8_t>(health.level), health.message);
   status.add("scene", scene_name_);
   status.add("solver", sim_.solver().name());
-  status.add("iterations per step", sim_.solverSettings().max_iterations);
+  status.add("substeps per frame", sim_.solverSettings().substeps);
+  status.add("iterations per substep", sim_.solverSettings().max_iterations);
   status.addf("step budget (ms)", "%.3f", 1e3 * w.budget);
   status.addf("mean step time (ms)", "%.3f", 1e3 * w.mean_time);
   status.addf("max step time (ms)", "%.3f", 1e3 * w.max_time);
@@ -213,10 +215,10 @@ void ClothSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status)
 
 void ClothSimNode::logSummary(const ros::SteadyTimerEvent&) {
   const StepReport& r = last_report_;
-  ROS_INFO("t = %7.2f s | %s %d it | step %.2f ms of %.2f | max strain %.2f %% | energy %.4f J "
+  ROS_INFO("t = %7.2f s | %s %d x %d it | frame %.2f ms of %.2f | max strain %.2f %% | energy %.4f J "
            "| pins %zu, spheres %zu | %s",
-           sim_.state().time, sim_.solver().name(), r.iterations, 1e3 * r.wall_time,
-           1e3 * sim_.model().time_step, 100.0 * r.max_strain, sim_.totalEnergy(),
+           sim_.state().time, sim_.solver().name(), r.substeps, r.iterations, 1e3 * r.wall_time,
+           1e3 * sim_.frameTime(), 100.0 * r.max_strain, sim_.totalEnergy(),
            sim_.pins().size(), sim_.colliders().spheres().size(), stepStatusName(r.status));
 }
 
@@ -226,6 +228,7 @@ ClothSimConfig ClothSimNode::currentConfig() const {
   c.damping = sim_.model().damping;
   c.solver = sim_.solver().name();
   c.iterations = sim_.solverSettings().max_iterations;
+  c.substeps = sim_.solverSettings().substeps;
   return c;
 }
 
@@ -261,6 +264,13 @@ void ClothSimNode::onReconfigure(ClothSimConfig& config, std::uint32_t /*level*/
           sim_.setSolverSettings(settings);
         },
         [&] { config.iterations = current.iterations; });
+  apply("substeps", config.substeps != current.substeps,
+        [&] {
+          SolverSettings settings = sim_.solverSettings();
+          settings.substeps = config.substeps;
+          sim_.setSolverSettings(settings);
+        },
+        [&] { config.substeps = current.substeps; });
 }
 
 }  // namespace cloth_sim::node

@@ -99,11 +99,12 @@ ClothState toClothState(const Simulation& sim, const StepReport& report,
   s.header = header;
   s.step = counters.step;
   s.sim_time = sim.state().time;
-  s.time_step = sim.model().time_step;
+  s.time_step = sim.frameTime();
   s.step_wall_time = report.wall_time;
   s.solve_wall_time = report.solve_time;
   s.solver = sim.solver().name();
   s.iterations = report.iterations;
+  s.substeps = report.substeps;
   s.convergence = report.convergence;
   s.converged = report.converged;
   s.max_strain = report.max_strain;

@@ -20,6 +20,11 @@ constexpr Setting kIterationsOverride{
     "iterations", "iterations", Range::closed(0, settings::kIterations.range.max), true, "",
     "(0 = the scene's)", "replaces the scene's iterations per step when > 0", 0};
 
+/// ~substeps: the scene's range, plus 0 for "keep the scene's".
+constexpr Setting kSubstepsOverride{
+    "substeps", "substeps", Range::closed(0, settings::kSubsteps.range.max), true, "",
+    "(0 = the scene's)", "replaces the scene's substeps per frame when > 0", 0};
+
 const char* typeName(XmlRpc::XmlRpcValue::Type type) {
   switch (type) {
     case XmlRpc::XmlRpcValue::TypeBoolean: return "a boolean";
@@ -104,6 +109,7 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
   read.get("render_rate", o.render_rate);
   read.get("solver", o.solver);
   read.get("iterations", o.iterations);
+  read.get("substeps", o.substeps);
   read.get("max_rollbacks", o.max_rollbacks);
   read.get("strain_color_scale", o.strain_color_scale);
   read.get("shading", o.shading);
@@ -135,6 +141,8 @@ void validateNodeOptions(const NodeOptions& o) {
   }
   const std::string iterations_problem = violation(o.iterations, kIterationsOverride);
   if (!iterations_problem.empty()) fail("iterations", iterations_problem);
+  const std::string substeps_problem = violation(o.substeps, kSubstepsOverride);
+  if (!substeps_problem.empty()) fail("substeps", substeps_problem);
   if (o.max_rollbacks < 1) fail("max_rollbacks", str(o.max_rollbacks) + " must be >= 1");
   if (!std::isfinite(o.strain_color_scale) || o.strain_color_scale <= 0.0) {
     fail("strain_color_scale", str(o.strain_color_scale) + " must be finite and > 0");
@@ -166,6 +174,7 @@ SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir) 
   SceneOverrides overrides;
   if (!options.solver.empty()) overrides.solver = options.solver;
   if (options.iterations > 0) overrides.iterations = options.iterations;
+  if (options.substeps > 0) overrides.substeps = options.substeps;
   return applyOverrides(std::move(scene), overrides);
 }
 

@@ -117,6 +117,8 @@ TEST(NodeOptions, EveryRuleIsCheckedAndNamesItsParameter) {
       {"frame_id", XmlRpc::XmlRpcValue(""), "non-empty"},
       {"solver", XmlRpc::XmlRpcValue("runge_kutta"), "local_global"},  // lists the valid names
       {"iterations", XmlRpc::XmlRpcValue(-1), "must be in [0, 100000]"},
+      {"substeps", XmlRpc::XmlRpcValue(-1), "must be in [0, 1000]"},
+      {"substeps", XmlRpc::XmlRpcValue(1001), "must be in [0, 1000]"},
       {"max_rollbacks", XmlRpc::XmlRpcValue(0), "must be >= 1"},
       {"strain_color_scale", XmlRpc::XmlRpcValue(0.0), "must be finite and > 0"},
       {"sphere_cull_distance", XmlRpc::XmlRpcValue(-1.0), "must be finite and > 0"},
@@ -150,9 +152,11 @@ TEST(LoadScene, LoadsAShippedSceneByNameAndAppliesTheOverrides) {
 
   o.solver = "chebyshev";
   o.iterations = 40;
+  o.substeps = 3;
   scene = loadScene(o, kSceneDir);
   EXPECT_EQ(scene.options.solver, "chebyshev");
   EXPECT_EQ(scene.options.settings.max_iterations, 40);
+  EXPECT_EQ(scene.options.settings.substeps, 3);
 }
 
 TEST(LoadScene, AMissingFileIsRefusedNamingTheParameterAndThePath) {

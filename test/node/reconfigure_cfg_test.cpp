@@ -40,6 +40,7 @@ double coreDefault(const std::string& param) {
   if (param == "bending_stiffness") return material.bending;
   if (param == "damping") return scene.damping;
   if (param == "iterations") return SolverSettings{}.max_iterations;
+  if (param == "substeps") return SolverSettings{}.substeps;
   ADD_FAILURE() << "no core default known for " << param;
   return 0.0;
 }
@@ -60,7 +61,7 @@ TEST(ReconfigureCfg, NumericParametersMatchTheSettingsTable) {
     EXPECT_EQ(numberIn(d, ClothSimConfig::__getMax__()), max);
     EXPECT_EQ(numberIn(d, ClothSimConfig::__getDefault__()), coreDefault(d->name));
   }
-  EXPECT_EQ(numeric, 5);
+  EXPECT_EQ(numeric, 6);
 }
 
 TEST(ReconfigureCfg, SolverEnumIsTheRegistry) {

@@ -59,6 +59,20 @@ TEST(RunScene, JsonHasTheRunAndEveryStep) {
   EXPECT_NE(text.find("]}"), std::string::npos);
 }
 
+TEST(RunScene, SubstepsSplitEachFrameAndTheRowsStayPerFrame) {
+  const std::string csv = tmp("substeps.csv");
+  ASSERT_EQ(run("--scene " + kScene + " --duration 0.1 --substeps 4 --iterations 2 --csv " + csv), 0);
+  const std::string table = slurp(csv);
+  EXPECT_EQ(countLines(table), 1 + 6);
+  EXPECT_NE(table.find("\n6,0.1,"), std::string::npos);
+}
+
+TEST(RunScene, ARunTooLongToCountIsRefused) {
+  // 1 s of 1e-10 s frames: 1e10 frames overflowed the count into a run of one step.
+  EXPECT_EQ(run("--scene " + kScene + " --dt 1e-10 --duration 1"), 1);
+  EXPECT_EQ(run("--scene " + kScene + " --substeps 0"), 1);
+}
+
 TEST(RunScene, BadArgumentsExitWithOne) {
   EXPECT_EQ(run("--scene " + kScene + " --solver rk4"), 1);
   EXPECT_EQ(run("--scene /nonexistent.yaml"), 1);

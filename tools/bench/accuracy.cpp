@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "cases.h"
+#include "cloth_sim/core/settings/settings_table.h"
 #include "stats.h"
 
 namespace cloth_sim::bench {
@@ -61,8 +62,12 @@ Sample sampleOf(const Simulation& sim) {
 /// it at the end of the frames in @p sample_frames (increasing).
 Trajectory run(SceneConfig scene, const Config& config, const std::vector<int>& sample_frames,
                double max_frame_ms) {
-  const double frame = scene.time_step;
-  scene.time_step = frame / config.substeps;
+  // Substeps as the user sets them (solver.substeps); a reference finer than that setting
+  // allows takes the frame as its step instead (nothing moves kinematically in these scenes).
+  const bool as_setting = settings::kSubsteps.range.contains(config.substeps);
+  scene.options.settings.substeps = as_setting ? config.substeps : 1;
+  if (!as_setting) scene.time_step /= config.substeps;
+  const int steps_per_frame = as_setting ? 1 : config.substeps;
   scene.options.solver = config.solver;
   scene.options.settings.max_iterations = config.iterations;
   scene.options.settings.tolerance = config.tolerance;
@@ -71,7 +76,7 @@ Trajectory run(SceneConfig scene, const Config& config, const std::vector<int>& 
   std::size_t next = 0;
   for (int f = 1; next < sample_frames.size(); ++f) {
     const double start = now();
-    for (int s = 0; s < config.substeps; ++s) {
+    for (int s = 0; s < steps_per_frame; ++s) {
       if (sim.step().status != StepStatus::kOk) ++t.rollbacks;
     }
     t.frame_ms.push_back(1e3 * (now() - start));
@@ -120,14 +125,51 @@ bool readSamples(const std::string& path, std::vector<Sample>& samples) {
   return static_cast<bool>(in);
 }
 
+/// A hash of everything that defines the motion of @p scene's simulation (model, initial
+/// state, pins, colliders, frame), and nothing of its solver: the key of a cached reference.
+std::size_t motionFingerprint(const SceneConfig& scene) {
+  const Simulation sim = makeSimulation(scene);
+  std::size_t seed = 0;
+  const auto mix = [&seed](double v) {
+    seed ^= std::hash<double>{}(v) + 0x9e3779b97f4a7c15ull + (seed << 6) + (seed >> 2);
+  };
+  const Model& m = sim.model();
+  for (Eigen::Index i = 0; i < m.mass.size(); ++i) mix(m.mass[i]);
+  for (std::size_t k = 0; k < m.springs.size(); ++k) {
+    for (double v : {double(m.springs.first[k]), double(m.springs.second[k]),
+                     m.springs.rest_length[k], m.springs.stiffness[k]}) {
+      mix(v);
+    }
+  }
+  for (Eigen::Index i = 0; i < sim.state().positions.size(); ++i) mix(sim.state().positions.data()[i]);
+  for (double v : {m.damping, sim.frameTime(), m.gravity.x(), m.gravity.y(), m.gravity.z()}) mix(v);
+  for (const Pin& p : sim.pins().pins()) {
+    for (double v : {double(p.vertex), p.target.x(), p.target.y(), p.target.z(), p.stiffness}) mix(v);
+  }
+  for (const SphereCollider& s : sim.colliders().spheres()) {
+    for (double v : {s.center.x(), s.center.y(), s.center.z(), s.radius, s.velocity.x(),
+                     s.velocity.y(), s.velocity.z(), s.mass, s.friction, s.restitution}) {
+      mix(v);
+    }
+  }
+  const GroundPlane& g = sim.colliders().ground();
+  for (double v : {double(g.enabled), g.height, g.friction}) mix(v);
+  for (const auto& mesh : sim.colliders().meshes()) {
+    for (Eigen::Index i = 0; i < mesh->mesh().vertices.size(); ++i) mix(mesh->mesh().vertices.data()[i]);
+    mix(mesh->thickness());
+    mix(mesh->friction());
+  }
+  return seed;
+}
+
 /// Reference samples at h = frame / substeps, from the cache when it holds this exact run.
 std::vector<Sample> reference(const SceneConfig& scene, const std::string& case_name,
-                              const std::string& scene_text, int substeps,
-                              const std::vector<int>& frames, const AccuracyOptions& o) {
+                              int substeps, const std::vector<int>& frames,
+                              const AccuracyOptions& o) {
   const Config config = o.reference == "verlet" ? Config{"verlet", substeps, 1, 0.0}
                                                 : Config{"chebyshev", substeps, 2000, 1e-9};
   std::ostringstream key;
-  key << scene_text << '|' << case_name << '|' << config.label();
+  key << motionFingerprint(scene) << '|' << case_name << '|' << config.label();
   for (int f : frames) key << ',' << f;
   std::string path;
   if (!o.cache_dir.empty()) {
@@ -206,9 +248,6 @@ void runAccuracy(const AccuracyOptions& o) {
 
   for (const std::string& scene_name : o.scenes) {
     const std::string file = o.scenes_dir + "/" + scene_name + ".yaml";
-    std::ifstream in(file);
-    std::stringstream text;
-    text << in.rdbuf();
     const bool mesh = loadSceneFile(file).cloth_kind == SceneConfig::ClothKind::kMesh;
     for (int grid : mesh ? std::vector<int>{0} : o.grids) {
       BenchCase c = mesh ? BenchCase{scene_name + "-mesh", scene_name, 0, false, loadSceneFile(file)}
@@ -222,10 +261,10 @@ void runAccuracy(const AccuracyOptions& o) {
                                   : o.reference_substeps;
       progress(0, 2, c.name + " reference");
       const std::vector<Sample> coarse =
-          reference(c.config, c.name, text.str(), ref_substeps, frames, o);
+          reference(c.config, c.name, ref_substeps, frames, o);
       progress(1, 2, c.name + " reference (h / 2)");
       const std::vector<Sample> ref =
-          reference(c.config, c.name, text.str(), 2 * ref_substeps, frames, o);
+          reference(c.config, c.name, 2 * ref_substeps, frames, o);
       progress(2, 2, c.name + " reference done");
       const double size = diagonal(makeSimulation(c.config).state().positions);
       for (std::size_t k = 0; k < frames.size(); ++k) {

@@ -10,6 +10,7 @@ BenchCase makeCase(const std::string& scenes_dir, const std::string& scene, int 
   c.grid = grid;
   c.name = scene + "-" + std::to_string(grid);
   c.config = loadSceneFile(scenes_dir + "/" + scene + ".yaml");
+  c.config.options.settings.substeps = 1;  // one implicit step per frame: the per-step view
   const int old_rows = c.config.grid.rows, old_cols = c.config.grid.cols;
   // Pins resolved at the file's resolution, then each moved to the same place on the sheet at
   // the new resolution (corners stay corners).

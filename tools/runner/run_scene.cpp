@@ -1,5 +1,6 @@
 // Headless runner: steps a scene without ROS; per-step CSV or JSON, final positions, progress.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -13,9 +14,12 @@
 
 namespace {
 
+/// The most frames one run takes (about 19 days of simulated time at 60 Hz).
+constexpr int kMaxFrames = 100000000;
+
 struct Options {
   std::string scene_path, solver, linear_solver, csv, json, positions;
-  std::optional<int> iterations;
+  std::optional<int> iterations, substeps;
   std::optional<double> dt, tolerance;
   double duration = 5.0;
   bool quiet = false, warm_start = false;
@@ -56,7 +60,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember(solverNames()));
   app.add_option("--iterations", o.iterations, "iterations per step (default: the scene's)")
       ->check(allowedBy(settings::kIterations));
-  app.add_option("--dt", o.dt, "time step h in s (default: the scene's)")
+  app.add_option("--substeps", o.substeps,
+                 "implicit steps of dt / substeps per frame (default: the scene's)")
+      ->check(allowedBy(settings::kSubsteps));
+  app.add_option("--dt", o.dt, "frame time step in s (default: the scene's)")
       ->check(allowedBy(settings::kTimeStep));
   app.add_option("--duration", o.duration, "simulated seconds (default 5)")
       ->check(inRange(Range::above(0), "> 0 s"));
@@ -68,7 +75,7 @@ int main(int argc, char** argv) {
   app.add_option("--json", o.json, "per-step JSON to this file ('-' = stdout)")->excludes(csv);
   app.add_option("--positions", o.positions, "final positions (CSV: particle,x,y,z in m) to this file");
   app.add_flag("--warm-start", o.warm_start,
-               "local_global/chebyshev: start from y + the previous step's correction");
+               "local_global, chebyshev, anderson, lbfgs: start from y + the previous step's correction");
   app.add_flag("--quiet", o.quiet, "no per-second summary on stdout");
   try {
     app.parse(argc, argv);
@@ -80,15 +87,25 @@ int main(int argc, char** argv) {
     SceneOverrides overrides;
     if (!o.solver.empty()) overrides.solver = o.solver;
     overrides.iterations = o.iterations;
+    overrides.substeps = o.substeps;
     overrides.tolerance = o.tolerance;
     if (!o.linear_solver.empty()) overrides.linear_solver = linearSolverFromName(o.linear_solver);
     overrides.time_step = o.dt;
     if (o.warm_start) overrides.warm_start = true;
     const SceneConfig scene = applyOverrides(loadSceneFile(o.scene_path), overrides);
     Simulation sim = makeSimulation(scene);
-    const double h = sim.model().time_step;
-    const int steps = std::max(1, static_cast<int>(o.duration / h + 0.5));
-    const int per_second = std::max(1, static_cast<int>(1.0 / h + 0.5));
+    const double h = sim.frameTime();
+    // A count derived from user numbers is checked before it is cast: 1e-10 s frames for 1 s
+    // would overflow an int into a run of one step.
+    const double frames = std::round(o.duration / h);
+    if (!(frames <= kMaxFrames)) {
+      throw std::invalid_argument("--duration " + std::to_string(o.duration) + " s at a frame of " +
+                                  std::to_string(h) + " s is " + std::to_string(frames) +
+                                  " frames, more than the " + std::to_string(kMaxFrames) +
+                                  " a run can take");
+    }
+    const int steps = std::max(1, static_cast<int>(frames));
+    const int per_second = static_cast<int>(std::clamp(std::round(1.0 / h), 1.0, frames + 1.0));
     const bool table_on_stdout = o.csv == "-" || o.json == "-";
     const bool summary = !o.quiet && !table_on_stdout;
 
@@ -100,9 +117,11 @@ int main(int argc, char** argv) {
                  static_cast<int>(sim.model().springs.size()), h, sim.solverSettings().max_iterations);
     }
     if (summary) {
-      std::printf("scene %s: %d particles, %zu springs, solver %s, %d iterations, h = %.5f s\n",
+      std::printf("scene %s: %d particles, %zu springs, solver %s, %d substeps of %d iterations, "
+                  "frame %.5f s\n",
                   scene.name.c_str(), sim.model().particleCount(), sim.model().springs.size(),
-                  sim.solver().name(), sim.solverSettings().max_iterations, h);
+                  sim.solver().name(), sim.solverSettings().substeps,
+                  sim.solverSettings().max_iterations, h);
     }
     tools::ProgressBar progress(steps);
     double wall = 0.0;

@@ -27,10 +27,11 @@ const char* stepStatusName(StepStatus status);
 /// What one step did and cost.
 struct StepReport {
   StepStatus status = StepStatus::kOk;
-  int iterations = 0;        ///< solver iterations (SolveResult)
-  double convergence = 0.0;  ///< relative position change of the last iteration (SolveResult)
+  int substeps = 0;          ///< implicit steps taken in this frame (SolverSettings::substeps)
+  int iterations = 0;        ///< solver iterations of the last substep (SolveResult)
+  double convergence = 0.0;  ///< relative position change of the last iteration (last substep)
   bool converged = false;    ///< the solver tolerance was reached
-  double solve_time = 0.0;   ///< s of wall time in the solver
+  double solve_time = 0.0;   ///< s of wall time in the solver (all substeps)
   double wall_time = 0.0;    ///< s of wall time for the whole step (solve, contacts, checks)
   int contacts = 0;          ///< particles moved by the collision response
   double max_strain = 0.0;   ///< max |l - r| / r over the springs after the step
@@ -61,10 +62,13 @@ class Simulation {
   Simulation(Model model, const Points& rest_positions, PinSet pins, Colliders colliders,
              SimulationOptions options);
 
-  /// Advances by model().time_step: spheres move, the solver steps, contacts are resolved and
-  /// the result is checked. A non-finite or diverged result is rolled back: the state, pins and
-  /// spheres return to what they were before the step with every velocity set to zero (the
-  /// simulation stays usable and can go on), and the report says so.
+  /// Advances by one frame, frameTime() s, as SolverSettings::substeps implicit steps of
+  /// model().time_step = frameTime() / substeps: in each, spheres move, the solver steps,
+  /// contacts are resolved. Pin targets and kinematic sphere centres the user moved since the
+  /// last frame move there linearly across the substeps (no jerk in the first substep). A
+  /// non-finite or diverged frame is rolled back: the cloth and spheres return to what they were
+  /// before the frame with every velocity set to zero, while the user's edits (pins, their
+  /// targets, spheres and their moves) are kept; the report says so.
   StepReport step();
 
   /// Back to the initial state, pins and spheres given at construction. Stiffness, damping,
@@ -85,6 +89,7 @@ class Simulation {
   void setFamilyStiffness(SpringFamily family, double stiffness);
   /// Damping rate (1/s), see Model::damping. Does not refactor.
   void setDamping(double damping);
+  /// Sets the frame time (s) that step() advances; the implicit step is h / substeps.
   void setTimeStep(double h);
   /// Switches solver (by name); the new one factorizes at its first step if it needs to.
   void setSolver(const std::string& name);
@@ -92,6 +97,9 @@ class Simulation {
 
   // --- read access ----------------------------------------------------------------------------
   const Model& model() const { return model_; }
+  /// s of simulated time one step() advances: the scene's time_step (model().time_step is the
+  /// implicit step, this divided by SolverSettings::substeps).
+  double frameTime() const { return frame_time_; }
   const State& state() const { return state_; }
   const PinSet& pins() const { return pins_; }
   const Colliders& colliders() const { return colliders_; }
@@ -109,6 +117,22 @@ class Simulation {
 
  private:
   void rebuildMovableMask();
+  /// One implicit step of model_.time_step with @p pins; adds what it did to @p report.
+  void substep(const PinSet& pins, StepReport& report);
+  /// @p pins_at with the targets of the pins moved since the last frame at fraction @p s of
+  /// the way from their last-frame targets.
+  void interpolatePins(double s, PinSet& pins_at) const;
+  /// Kinematic spheres moved since the last frame: their pending jumps become velocities for
+  /// the frame (sign +1) or are taken back out of them (-1).
+  void applySphereJumps(double sign);
+  /// Rolls the cloth and spheres back to @p state and @p colliders, keeping the user's edits.
+  void rollBack(const State& state, const Colliders& colliders);
+
+  /// A kinematic sphere the user moved since the last frame.
+  struct SphereJump {
+    int id;
+    Vec3 displacement;  ///< m, spread over the frame's substeps
+  };
 
   Model model_;
   State state_, initial_state_;
@@ -120,6 +144,9 @@ class Simulation {
   std::uint64_t revision_ = 1;
   std::vector<char> movable_;  ///< false for hard-pinned particles (collisions skip them)
   ContactForces contacts_;     ///< in-solve contact forces, warm-started across steps
+  double frame_time_ = 0.0;    ///< s, see frameTime()
+  std::vector<std::pair<int, Vec3>> frame_targets_;  ///< pin id -> target at the last frame's end
+  std::vector<SphereJump> sphere_jumps_;
 };
 
 }  // namespace cloth_sim

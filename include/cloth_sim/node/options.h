@@ -26,6 +26,9 @@ struct NodeOptions {
   /// ~iterations: replaces the scene's iterations per step when > 0; 0 keeps the scene's (range:
   /// settings::kIterations).
   int iterations = 0;
+  /// ~substeps: replaces the scene's implicit steps per frame when > 0; 0 keeps the scene's
+  /// (range: settings::kSubsteps).
+  int substeps = 0;
   /// ~max_rollbacks, >= 1: after this many rolled-back (diverged) steps in a row the node
   /// resets the simulation to its initial state (see docs/ros_interface.md, "Divergence").
   int max_rollbacks = 30;

@@ -6,6 +6,7 @@ SceneConfig applyOverrides(SceneConfig scene, const SceneOverrides& overrides) {
   SolverSettings& settings = scene.options.settings;
   if (overrides.solver) scene.options.solver = *overrides.solver;
   if (overrides.iterations) settings.max_iterations = *overrides.iterations;
+  if (overrides.substeps) settings.substeps = *overrides.substeps;
   if (overrides.tolerance) settings.tolerance = *overrides.tolerance;
   if (overrides.linear_solver) settings.linear_solver = *overrides.linear_solver;
   if (overrides.warm_start) settings.warm_start = *overrides.warm_start;

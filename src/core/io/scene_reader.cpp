@@ -138,7 +138,7 @@ class Reader {
 
 void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& options) {
   const std::string path = "solver";
-  r.map(node, path, {"name", "iterations", "tolerance", "chebyshev", "anderson", "lbfgs"});
+  r.map(node, path, {"name", "iterations", "substeps", "tolerance", "chebyshev", "anderson", "lbfgs"});
   if (node["name"]) {
     options.solver = r.text(node["name"], path + ".name");
     try {
@@ -150,6 +150,9 @@ void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& opti
   SolverSettings& s = options.settings;
   if (node["iterations"]) {
     s.max_iterations = r.integer(node["iterations"], path + ".iterations", settings::kIterations);
+  }
+  if (node["substeps"]) {
+    s.substeps = r.integer(node["substeps"], path + ".substeps", settings::kSubsteps);
   }
   if (node["tolerance"]) {
     s.tolerance = r.number(node["tolerance"], path + ".tolerance", settings::kTolerance);

@@ -32,6 +32,7 @@ LinearSolver linearSolverFromName(const std::string& name) {
 
 void SolverSettings::validate() const {
   settings::kIterations.require(max_iterations);
+  settings::kSubsteps.require(substeps);
   settings::kTolerance.require(tolerance);
   settings::kChebyshevRho.require(chebyshev_rho);
   settings::kChebyshevGamma.require(chebyshev_gamma);

@@ -65,9 +65,9 @@ namespace {
 // in kKnownFailures: reported, not asserted, and reported again when they start to pass.
 constexpr int kDefaultSubsteps = 16;
 constexpr int kDefaultIterations = 10;
-/// Scenes (of seed kDefaultSeed) that fail at the default configuration because of the sphere
-/// "started inside" stiction described above.
-const std::vector<int> kKnownFailures = {9};
+/// Scenes (of seed kDefaultSeed) that fail at the default configuration for a known reason
+/// (none since the sphere "started inside" stiction was fixed).
+const std::vector<int> kKnownFailures = {};
 constexpr const char* kDefaultSolver = "local_global";
 constexpr int kDefaultScenes = 50;
 constexpr unsigned kDefaultSeed = 20261123;

@@ -1,6 +1,6 @@
 /// @file scene_overrides.h
-/// What a caller replaces in a scene before building it: the node's ~solver / ~iterations, the
-/// runner's --solver, --iterations, --tolerance, --linear-solver, --dt, --warm-start. Each caller
+/// What a caller replaces in a scene before building it: the node's ~solver / ~iterations /
+/// ~substeps, the runner's --solver, --iterations, --substeps, --tolerance, --linear-solver, --dt, --warm-start. Each caller
 /// checks its values against settings_table.h in its own message format; Simulation checks the
 /// result again when it is built.
 #pragma once
@@ -16,6 +16,7 @@ namespace cloth_sim {
 struct SceneOverrides {
   std::optional<std::string> solver;            ///< a name from solverNames()
   std::optional<int> iterations;                ///< SolverSettings::max_iterations
+  std::optional<int> substeps;                  ///< SolverSettings::substeps
   std::optional<double> tolerance;              ///< SolverSettings::tolerance
   std::optional<LinearSolver> linear_solver;    ///< SolverSettings::linear_solver
   std::optional<double> time_step;              ///< s

@@ -36,6 +36,7 @@ namespace settings {
 // clang-format off
 //                                  name                         param                   range                              int    unit      note                 doc                                                   slider
 inline constexpr Setting kIterations{"solver.iterations",       "iterations",           Range::closed(1, 100000),           true,  "",       "",                  "Solver iterations per step (a cap for newton)",     0};
+inline constexpr Setting kSubsteps{"solver.substeps",           "substeps",             Range::closed(1, 1000),             true,  "",       "",                  "Implicit steps per frame (each time_step / substeps)", 0};
 inline constexpr Setting kTolerance{"solver.tolerance",         "",                     Range::atLeast(0),                  false, "",       "",                  "Stop below this relative position change (0 = never)", 0};
 inline constexpr Setting kChebyshevRho{"solver.chebyshev.rho",  "",                     Range{0, 1, false, true},           false, "",       "(0 = measure it)",  "Spectral radius of plain local/global",              0};
 inline constexpr Setting kChebyshevGamma{"solver.chebyshev.gamma", "",                  Range{0, 1, true, false},           false, "",       "",                  "Under-relaxation of Wang 2015",                      0};
@@ -62,7 +63,7 @@ inline constexpr Setting kFriction{"friction",                  "friction",     
 
 /// Every setting above, in that order.
 inline constexpr const Setting* kAllSettings[] = {
-    &kIterations,  &kTolerance,           &kChebyshevRho,    &kChebyshevGamma,   &kChebyshevDelay,
+    &kIterations,  &kSubsteps,            &kTolerance,           &kChebyshevRho,    &kChebyshevGamma,   &kChebyshevDelay,
     &kAndersonWindow, &kLbfgsWindow,      &kTimeStep,        &kDivergenceStrain, &kArealDensity,
     &kDamping,     &kStructuralStiffness, &kShearStiffness,  &kBendingStiffness, &kGridResolution,
     &kGridSize,    &kMeshScale,           &kMeshThickness,   &kPinStiffness,     &kSphereRadius,

@@ -36,6 +36,10 @@ struct SolverSettings {
   /// Iterations per step: local/global and chebyshev run exactly this many unless tolerance
   /// stops them first; newton uses it as a cap. Ignored by the explicit solvers.
   int max_iterations = 10;
+  /// Implicit steps per frame: Simulation::step advances the frame time_step as this many steps
+  /// of time_step / substeps (read by Simulation; a solver sees one step of model.time_step).
+  /// Smaller steps damp less and resolve contact better; see docs/method.md, "Substeps".
+  int substeps = 1;
   /// Stop when the convergence measure (relative position change of the last iteration, see
   /// SolveResult) drops below this. 0 = always run max_iterations (fixed real-time cost).
   double tolerance = 0.0;
