@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -43,8 +44,18 @@ class Reader {
   void map(const YAML::Node& node, const std::string& path,
            const std::set<std::string>& known) const {
     if (!node.IsMap()) fail(path, "value " + show(node) + " must be a map");
+    std::map<std::string, int> lines;  // key -> line, to refuse a key given twice
     for (const auto& kv : node) {
-      const std::string key = kv.first.as<std::string>();
+      const int line = kv.first.Mark().line + 1;
+      if (!kv.first.IsScalar()) {
+        fail(path.empty() ? "(top level)" : path,
+             "key " + show(kv.first) + " on line " + std::to_string(line) + " must be a plain name");
+      }
+      const std::string key = kv.first.Scalar();
+      if (const auto [first, fresh] = lines.emplace(key, line); !fresh) {
+        fail(join(path, key), "given twice (lines " + std::to_string(first->second) + " and " +
+                                  std::to_string(line) + "); a field may appear once");
+      }
       if (known.count(key) == 0) {
         std::string list;
         for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;

@@ -127,6 +127,15 @@ TEST(Scene, MalformedScenesAreRefusedNamingTheField) {
        "gravity[2]", "finite"},
       {"material: {springs: {shear: 1}}", "cloth", "is required"},
       {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}", "material", "is required"},
+      {"solver: {substeps: 0}\ncloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}",
+       "solver.substeps", "[1, 1000]"},
+      // YAML keys are unique: the second value was dropped without a word.
+      {"time_step: 1/60\ncloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\ntime_step: 1/30",
+       "time_step", "given twice (lines 1 and 5)"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, rows: 4, size: [1, 1]}\nmaterial: {springs: {shear: 1}}",
+       "cloth.grid.rows", "given twice (lines 2 and 2)"},
+      {"? [a, b]\n: 1\ncloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}",
+       "(top level)", "key [a, b] on line 1 must be a plain name"},
   };
   for (const Malformed& c : cases) {
     try {
