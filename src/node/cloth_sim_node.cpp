@@ -257,20 +257,18 @@ void ClothSimNode::onReconfigure(ClothSimConfig& config, std::uint32_t /*level*/
         [&] { config.damping = current.damping; });
   apply("solver", config.solver != current.solver, [&] { sim_.setSolver(config.solver); },
         [&] { config.solver = current.solver; });
-  apply("iterations", config.iterations != current.iterations,
-        [&] {
-          SolverSettings settings = sim_.solverSettings();
-          settings.max_iterations = config.iterations;
-          sim_.setSolverSettings(settings);
-        },
-        [&] { config.iterations = current.iterations; });
-  apply("substeps", config.substeps != current.substeps,
-        [&] {
-          SolverSettings settings = sim_.solverSettings();
-          settings.substeps = config.substeps;
-          sim_.setSolverSettings(settings);
-        },
-        [&] { config.substeps = current.substeps; });
+  auto applySolverSetting = [&](const char* name, int ClothSimConfig::*field,
+                                int SolverSettings::*setting) {
+    apply(name, config.*field != current.*field,
+          [&] {
+            SolverSettings settings = sim_.solverSettings();
+            settings.*setting = config.*field;
+            sim_.setSolverSettings(settings);
+          },
+          [&] { config.*field = current.*field; });
+  };
+  applySolverSetting("iterations", &ClothSimConfig::iterations, &SolverSettings::max_iterations);
+  applySolverSetting("substeps", &ClothSimConfig::substeps, &SolverSettings::substeps);
 }
 
 }  // namespace cloth_sim::node

@@ -106,6 +106,17 @@ TEST(Reconfigure, SolverAndIterationsSwitchAndARefusedValueIsPutBack) {
       [](const ClothState& c) { return c.solver == "local_global" && c.iterations == 10; }, 3.0));
 }
 
+TEST(Reconfigure, SubstepsSplitTheFrameWhichStaysTheStep) {
+  NodeProbe& p = probe();
+  const double frame = p.latestState().time_step;
+  reconfigure("substeps", 4);
+  EXPECT_TRUE(p.waitForState(
+      [frame](const ClothState& c) { return c.substeps == 4 && c.time_step == frame; }, 3.0))
+      << "the node still steps with " << p.latestState().substeps << " substeps";
+  reconfigure("substeps", 1);
+  EXPECT_TRUE(p.waitForState([](const ClothState& c) { return c.substeps == 1; }, 3.0));
+}
+
 TEST(Reconfigure, AnUnstableSolverIsRolledBackThenResetAndDiagnosed) {
   NodeProbe& p = probe();
   ros::NodeHandle nh;
