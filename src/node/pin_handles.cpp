@@ -129,7 +129,8 @@ void PinHandles::sync(const std::vector<Pin>& pins) {
       changed = true;
     }
   }
-  if (changed) server_.applyChanges();
+  if (changed || dragged_) server_.applyChanges();
+  dragged_ = false;
 }
 
 void PinHandles::onFeedback(const visualization_msgs::InteractiveMarkerFeedbackConstPtr& fb) {
@@ -145,7 +146,10 @@ void PinHandles::onFeedback(const visualization_msgs::InteractiveMarkerFeedbackC
   target.point = fb->pose.position;
   // The server already holds the dragged pose: remember it so sync() does not send it back.
   const Vec3 p(target.point.x, target.point.y, target.point.z);
-  if (p.allFinite()) it->second = p;
+  if (p.allFinite()) {
+    it->second = p;
+    dragged_ = true;
+  }
   on_move_(id, target);
 }
 

@@ -6,6 +6,9 @@
 #include <std_srvs/Trigger.h>
 
 #include <visualization_msgs/InteractiveMarkerFeedback.h>
+#include <visualization_msgs/InteractiveMarkerUpdate.h>
+
+#include <atomic>
 
 #include <cloth_sim/AddPin.h>
 #include <cloth_sim/PinMove.h>
@@ -142,6 +145,20 @@ TEST(Integration, DraggingAPinHandleMovesThePin) {
       "cloth/pin_handles/feedback", 10);
   ASSERT_TRUE(waitForSubscriber(pub)) << "no drag handle server";
   const Vec3 goal(0.4, 0.3, 1.7);
+  // What a second RViz hears: the handle's new pose.
+  std::atomic<bool> seen_elsewhere{false};
+  ros::Subscriber updates = nh.subscribe<visualization_msgs::InteractiveMarkerUpdate>(
+      "cloth/pin_handles/update", 10,
+      [&](const visualization_msgs::InteractiveMarkerUpdateConstPtr& u) {
+        for (const auto& pose : u->poses) {
+          const Vec3 at(pose.pose.position.x, pose.pose.position.y, pose.pose.position.z);
+          if (pose.name == "pin_1" && (at - goal).norm() < 1e-9) seen_elsewhere = true;
+        }
+      });
+  const ros::WallTime connect_until = ros::WallTime::now() + ros::WallDuration(3.0);
+  while (updates.getNumPublishers() == 0 && ros::WallTime::now() < connect_until) {
+    ros::WallDuration(0.02).sleep();
+  }
   visualization_msgs::InteractiveMarkerFeedback fb;
   fb.header.frame_id = "world";
   fb.client_id = "/rviz/InteractiveMarkers";
@@ -160,6 +177,9 @@ TEST(Integration, DraggingAPinHandleMovesThePin) {
       },
       3.0);
   EXPECT_TRUE(moved) << "pin 1 did not follow its handle";
+  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(3.0);
+  while (!seen_elsewhere && ros::WallTime::now() < until) ros::WallDuration(0.02).sleep();
+  EXPECT_TRUE(seen_elsewhere) << "other RViz windows were not sent the dragged handle's pose";
 }
 
 TEST(Integration, ASpawnedSphereIsDrawnKeepsTheClothOutAndIsRemoved) {

@@ -53,6 +53,9 @@ class PinHandles {
   int max_handles_;
   MoveCallback on_move_;
   std::map<int, Vec3> shown_;  ///< pin id -> pose the server holds for its handle
+  /// A drag arrived since the last sync: the server holds its pose but sends it to the other
+  /// clients (a second RViz) only on applyChanges().
+  bool dragged_ = false;
   bool over_limit_ = false;
 };
 
