@@ -26,7 +26,7 @@ struct Setting {
   /// dynamic_reconfigure slider end for a range with no upper bound (0 when not on a slider).
   double slider_max;
 
-  /// The rule with its unit and note: "> 0 m", "in [0, 1) (0 = measure it)".
+  /// The rule with its unit and note: "> 0 m", "in [0, 1) (0 = the upper bound)".
   std::string requirement() const;
   /// Throws std::invalid_argument "<name> = <value> must be <requirement>" unless allowed.
   void require(double value) const;
@@ -38,7 +38,7 @@ namespace settings {
 inline constexpr Setting kIterations{"solver.iterations",       "iterations",           Range::closed(1, 100000),           true,  "",       "",                  "Solver iterations per step (a cap for newton)",     0};
 inline constexpr Setting kSubsteps{"solver.substeps",           "substeps",             Range::closed(1, 1000),             true,  "",       "",                  "Implicit steps per frame (each time_step / substeps)", 0};
 inline constexpr Setting kTolerance{"solver.tolerance",         "",                     Range::atLeast(0),                  false, "",       "",                  "Stop below this relative position change (0 = never)", 0};
-inline constexpr Setting kChebyshevRho{"solver.chebyshev.rho",  "",                     Range{0, 1, false, true},           false, "",       "(0 = measure it)",  "Spectral radius of plain local/global",              0};
+inline constexpr Setting kChebyshevRho{"solver.chebyshev.rho",  "",                     Range{0, 1, false, true},           false, "",       "(0 = the upper bound)",  "Spectral radius of plain local/global",              0};
 inline constexpr Setting kChebyshevGamma{"solver.chebyshev.gamma", "",                  Range{0, 1, true, false},           false, "",       "",                  "Under-relaxation of Wang 2015",                      0};
 inline constexpr Setting kChebyshevDelay{"solver.chebyshev.delay", "",                  Range::closed(1, 1000),             true,  "",       "",                  "Plain iterations before the acceleration starts",    0};
 inline constexpr Setting kAndersonWindow{"solver.anderson.window", "",                  Range::closed(1, 50),               true,  "",       "",                  "Past iterates in Anderson's least-squares model",    0};
