@@ -197,7 +197,7 @@ double maxDistance(const Points& a, const Points& b) {
 /// Diagonal of the bounding box of @p x (m): the cloth's size, taken at rest.
 double diagonal(const Points& x) { return (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).norm(); }
 
-/// Substeps per frame for velocity Verlet at a quarter of its stability limit h < 2 / w_max,
+/// Substeps per frame for velocity Verlet at half its stability limit h < 2 / w_max,
 /// rounded up to a power of two; w_max^2 <= max_i 2 sum_(springs of i) k / m_i (Gershgorin on
 /// M^-1 K, K the spring stiffness matrix at rest).
 int verletSubsteps(const SceneConfig& scene) {
@@ -210,7 +210,7 @@ int verletSubsteps(const SceneConfig& scene) {
   }
   const double omega = std::sqrt((2.0 * stiffness.array() / model.mass.array()).maxCoeff());
   int substeps = 1;
-  while (scene.time_step / substeps > 0.5 / omega) substeps *= 2;
+  while (scene.time_step / substeps > 1.0 / omega) substeps *= 2;
   return substeps;
 }
 

@@ -25,7 +25,7 @@ struct AccuracyOptions {
   std::vector<double> times = {1.0, 1.5, 2.0, 3.0};
   /// "verlet" (default): velocity Verlet (second order, no numerical damping, so it does not
   /// favour implicit Euler's damping) at frame / (2 n), n the larger of reference_substeps and
-  /// a quarter of Verlet's stability limit; its own error is estimated by its distance to the
+  /// half of Verlet's stability limit; its own error is estimated by its distance to the
   /// same run at frame / n (second order: that distance is about 3x the finer run's error).
   /// "implicit": implicit Euler solved to convergence (chebyshev, relative change 1e-9) at
   /// h = frame / (2 n), n = reference_substeps; its own error is estimated by its distance to
