@@ -9,6 +9,12 @@
 
 namespace cloth_sim::node {
 
+std::string quotedName(const std::string& name) {
+  if (name.size() <= kMaxEchoedName) return "'" + name + "'";
+  return "'" + name.substr(0, kMaxEchoedName) + "...' (" + std::to_string(name.size()) +
+         " characters)";
+}
+
 FrameResolver::FrameResolver(const tf2_ros::Buffer& buffer, std::string target_frame)
     : buffer_(buffer), target_frame_(std::move(target_frame)) {}
 
@@ -31,7 +37,7 @@ Eigen::Isometry3d FrameResolver::lookup(const std_msgs::Header& header,
   std::string frame = header.frame_id;
   if (!frame.empty() && frame.front() == '/') frame.erase(0, 1);
   if (frame.empty() || frame == target_frame_) return Eigen::Isometry3d::Identity();
-  const std::string prefix = what + ": frame '" + frame + "'";
+  const std::string prefix = what + ": frame " + quotedName(frame);
   if (!buffer_._frameExists(frame)) {
     throw std::invalid_argument(prefix + " is unknown to tf2 (no transform into '" +
                                 target_frame_ + "' has been published)");

@@ -89,6 +89,12 @@ TEST_F(FrameResolverTest, AnUnknownFrameIsRefusedByName) {
   EXPECT_NE(e.find("target: frame 'nowhere' is unknown to tf2"), std::string::npos) << e;
 }
 
+TEST_F(FrameResolverTest, AHugeFrameNameIsNotEchoedBackWhole) {
+  const std::string e = errorOf(pointIn(std::string(100000, 'x'), Vec3(0, 0, 0)));
+  EXPECT_LT(e.size(), 300u) << e.substr(0, 300);
+  EXPECT_NE(e.find("(100000 characters) is unknown to tf2"), std::string::npos) << e.substr(0, 300);
+}
+
 TEST_F(FrameResolverTest, AFrameWithNoPathToTheTargetIsRefused) {
   const std::string e = errorOf(pointIn("island", Vec3(0, 0, 0)));
   EXPECT_NE(e.find("frame 'island' cannot be transformed into 'world'"), std::string::npos) << e;

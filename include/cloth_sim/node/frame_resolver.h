@@ -2,6 +2,7 @@
 /// Brings points and vectors given in any tf2 frame into the simulation frame (~frame_id).
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -13,6 +14,11 @@
 #include "cloth_sim/core/linalg/types.h"
 
 namespace cloth_sim::node {
+
+/// Characters of a name a message repeats: a 100 kB frame name is not echoed back whole.
+inline constexpr std::size_t kMaxEchoedName = 64;
+/// @p name in quotes, cut to kMaxEchoedName characters with its length when longer.
+std::string quotedName(const std::string& name);
 
 /// Transforms inputs into the target frame with a tf2 buffer it does not own.
 ///
