@@ -13,6 +13,15 @@ if [ ! -f "$REPO_ROOT/config/scenes/$SCENE.yaml" ] && [ ! -f "$SCENE" ]; then
   exit 1
 fi
 
+# A scene that cannot be used stops here with its message and a failing exit status (the node
+# would exit, and roslaunch with it, but with status 0).
+SCENE_FILE="$REPO_ROOT/config/scenes/$SCENE.yaml"
+[ -f "$SCENE_FILE" ] || SCENE_FILE="$SCENE"
+if ! check=$("$WS/devel/lib/cloth_sim/cloth_sim_run" --scene "$SCENE_FILE" --duration 1e-9 --quiet 2>&1); then
+  echo "[run_demo] scene '$SCENE' cannot be used: $check" >&2
+  exit 1
+fi
+
 set +u  # setup.bash reads unset variables
 source "$WS/devel/setup.bash"
 set -u
@@ -22,6 +31,10 @@ if [ -n "${ROS_PORT:-}" ]; then
   PORT_ARGS=(-p "$ROS_PORT")
 fi
 
+if [ -n "${DISPLAY:-}" ] && ! xdpyinfo > /dev/null 2>&1; then
+  echo "[run_demo] DISPLAY=$DISPLAY cannot be reached: running headless" >&2
+  unset DISPLAY
+fi
 if [ -n "${DISPLAY:-}" ]; then
   RVIZ=true SUMMARY=false
 else

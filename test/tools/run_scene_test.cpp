@@ -84,4 +84,14 @@ TEST(RunScene, BadArgumentsExitWithOne) {
   EXPECT_EQ(run("--help"), 0);
 }
 
+TEST(RunDemo, ABadSceneStopsWithAFailingStatusBeforeLaunching) {
+  // make run with a scene that cannot be used exited 0 (the node died, roslaunch did not care).
+  const std::string scene = tmp("duplicate_key.yaml");
+  std::ofstream(scene) << "time_step: 1/60\ntime_step: 1/30\n";
+  const std::string script = std::string(CLOTH_SIM_SOURCE_DIR) + "/scripts/run_demo.sh";
+  const int status = std::system(("SCENE=" + scene + " timeout 60 bash " + script + " > /dev/null 2>&1").c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+}
+
 }  // namespace
