@@ -125,6 +125,13 @@ bool readSamples(const std::string& path, std::vector<Sample>& samples) {
   return static_cast<bool>(in);
 }
 
+/// "verlet" or "implicit": the reference integrator for @p scene (see AccuracyOptions::reference).
+std::string referenceKind(const SceneConfig& scene, const AccuracyOptions& o) {
+  if (o.reference != "auto") return o.reference;
+  const bool colliders = !scene.spheres.empty() || !scene.meshes.empty() || scene.ground.enabled;
+  return colliders ? "implicit" : "verlet";
+}
+
 /// A hash of everything that defines the motion of @p scene's simulation (model, initial
 /// state, pins, colliders, frame), and nothing of its solver: the key of a cached reference.
 std::size_t motionFingerprint(const SceneConfig& scene) {
@@ -166,8 +173,9 @@ std::size_t motionFingerprint(const SceneConfig& scene) {
 std::vector<Sample> reference(const SceneConfig& scene, const std::string& case_name,
                               int substeps, const std::vector<int>& frames,
                               const AccuracyOptions& o) {
-  const Config config = o.reference == "verlet" ? Config{"verlet", substeps, 1, 0.0}
-                                                : Config{"chebyshev", substeps, 2000, 1e-9};
+  const Config config = referenceKind(scene, o) == "verlet"
+                            ? Config{"verlet", substeps, 1, 0.0}
+                            : Config{"chebyshev", substeps, 2000, 1e-9};
   std::ostringstream key;
   key << motionFingerprint(scene) << '|' << case_name << '|' << config.label();
   for (int f : frames) key << ',' << f;
@@ -256,9 +264,10 @@ void runAccuracy(const AccuracyOptions& o) {
       std::vector<int> frames;
       for (double t : o.times) frames.push_back(static_cast<int>(std::lround(t / frame)));
 
-      const int ref_substeps =
-          o.reference == "verlet" ? std::max(o.reference_substeps, verletSubsteps(c.config))
-                                  : o.reference_substeps;
+      const std::string ref_kind = referenceKind(c.config, o);
+      const int ref_substeps = ref_kind == "verlet"
+                                   ? std::max(o.reference_substeps, verletSubsteps(c.config))
+                                   : o.reference_substeps;
       progress(0, 2, c.name + " reference");
       const std::vector<Sample> coarse =
           reference(c.config, c.name, ref_substeps, frames, o);
@@ -268,7 +277,7 @@ void runAccuracy(const AccuracyOptions& o) {
       progress(2, 2, c.name + " reference done");
       const double size = diagonal(makeSimulation(c.config).state().positions);
       for (std::size_t k = 0; k < frames.size(); ++k) {
-        ref_csv << c.name << ',' << ref[k].positions.cols() << ',' << size << ',' << o.reference
+        ref_csv << c.name << ',' << ref[k].positions.cols() << ',' << size << ',' << ref_kind
                 << ','                 << frame / (2 * ref_substeps) << ',' << o.times[k] << ','
                 << rms(coarse[k].positions, ref[k].positions) / size << ','
                 << maxDistance(coarse[k].positions, ref[k].positions) / size << ','
@@ -277,7 +286,7 @@ void runAccuracy(const AccuracyOptions& o) {
       std::printf("%s: %ld particles, diagonal %.3f m, reference %s h = 1/%.0f s; its error "
                   "(distance to h x 2) at t = %.1f s: %.3g %% RMS\n",
                   c.name.c_str(), static_cast<long>(ref.front().positions.cols()), size,
-                  o.reference.c_str(),
+                  ref_kind.c_str(),
                   2 * ref_substeps / frame, o.times.front(),
                   100.0 * rms(coarse.front().positions, ref.front().positions) / size);
 

@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
   accuracy_cmd->add_option("--times", accuracy.times, "sample times, s")->delimiter(',')
       ->capture_default_str()->check(CLI::PositiveNumber);
   accuracy_cmd->add_option("--reference", accuracy.reference, "reference integrator")
-      ->capture_default_str()->check(CLI::IsMember({"implicit", "verlet"}));
+      ->capture_default_str()->check(CLI::IsMember({"auto", "implicit", "verlet"}));
   accuracy_cmd->add_option("--reference-substeps", accuracy.reference_substeps,
                            "reference: h = frame / (2 x this); its error from h = frame / this")
       ->capture_default_str()->check(CLI::Range(1, 10000));

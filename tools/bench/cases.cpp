@@ -12,21 +12,21 @@ BenchCase makeCase(const std::string& scenes_dir, const std::string& scene, int 
   c.config = loadSceneFile(scenes_dir + "/" + scene + ".yaml");
   c.config.options.settings.substeps = 1;  // one implicit step per frame: the per-step view
   const int old_rows = c.config.grid.rows, old_cols = c.config.grid.cols;
-  // Pins resolved at the file's resolution, then each moved to the same place on the sheet at
-  // the new resolution (corners stay corners).
-  const std::vector<PinSpec> pins = resolvePins(c.config, buildCloth(c.config).rest_positions);
   c.config.grid.rows = grid;
   c.config.grid.cols = grid;
+  // A pin on one grid vertex moves to the same place on the sheet at the new resolution (corners
+  // stay corners); edge and region selectors resolve at any resolution as they are.
   auto scale = [grid](int index, int old_count) {
     return static_cast<int>(std::lround(static_cast<double>(index) * (grid - 1) / (old_count - 1)));
   };
-  c.config.pins.clear();
-  for (const PinSpec& pin : pins) {
-    PinSelector moved = PinSelector::atVertex(
-        gridVertex(scale(pin.vertex / old_cols, old_rows), scale(pin.vertex % old_cols, old_cols), grid));
-    moved.target = pin.target;
-    moved.stiffness = pin.stiffness;
-    c.config.pins.push_back(moved);
+  for (PinSelector& pin : c.config.pins) {
+    if (pin.kind == PinSelector::Kind::kVertex) {
+      pin.vertex = gridVertex(scale(pin.vertex / old_cols, old_rows),
+                              scale(pin.vertex % old_cols, old_cols), grid);
+    } else if (pin.kind == PinSelector::Kind::kCell) {
+      pin.row = scale(pin.row, old_rows);
+      pin.col = scale(pin.col, old_cols);
+    }
   }
   return c;
 }
