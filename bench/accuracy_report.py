@@ -139,5 +139,5 @@ def tables(rows, refs):
 def report(results, rows, refs, style):
     plot(rows, os.path.join(results, "accuracy.png"), style)
     with open(os.path.join(results, "accuracy.md"), "w") as f:
-        f.write("# Accuracy against the true motion\n\nBest RMS error at the first sample time "
+        f.write("# Accuracy against the true motion\n\nBest RMS error at 1 s "
                 "within a budget of ms per 1/60 s frame:\n\n" + tables(rows, refs) + "\n")
