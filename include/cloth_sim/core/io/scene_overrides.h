@@ -1,7 +1,7 @@
 /// @file scene_overrides.h
 /// What a caller replaces in a scene before building it: the node's ~solver / ~iterations /
-/// ~substeps, the runner's --solver, --iterations, --substeps, --tolerance, --linear-solver, --dt, --warm-start,
-/// --integrator. Each caller
+/// ~substeps, the runner's --solver, --iterations, --substeps, --tolerance, --linear-solver, --dt,
+/// --warm-start, --integrator. Each caller
 /// checks its values against settings_table.h in its own message format; Simulation checks the
 /// result again when it is built.
 #pragma once

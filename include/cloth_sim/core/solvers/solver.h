@@ -109,8 +109,9 @@ class ContactForces;
 struct SolverInput {
   const Model& model;
   const PinSet& pins;
-  /// Bumped whenever h, a stiffness, a mass or the set of pins changes: a solver holding a
-  /// factorization refactors when it sees a new value, and only then.
+  /// Bumped whenever h, a stiffness, a mass, the set of pins or SolverSettings::integrator
+  /// changes: a solver holding a factorization refactors when it sees a new value (or, within
+  /// a BDF2 run, a new implicit step h_i: see RevisionCache), and only then.
   std::uint64_t revision;
   /// Contact forces to solve with the step, or nullptr. Only local_global, chebyshev and anderson
   /// use them (lbfgs, newton, local_global_3n and the explicit solvers ignore them; Simulation

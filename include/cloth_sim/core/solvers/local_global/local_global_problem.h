@@ -51,7 +51,8 @@ double relativeChange(const NodeBuffer& next, const NodeBuffer& current, const N
 class LocalGlobalProblem {
  public:
   /// Refactors if the revision, the linear solver or the implicit step h_i changed (BDF2's
-  /// first step is implicit Euler, h_i = h; the next ones have h_i = 2h/3); builds y and the constant part of
+  /// first step is implicit Euler, h_i = h; the next ones have h_i = 2h/3); builds y and the
+  /// constant part of
   /// the right-hand side; starts the contacts (SolverInput::contacts) in node order. Returns
   /// the numeric factorizations done (0 or 1).
   int begin(const SolverInput& input, const SolverSettings& settings, const State& state);
