@@ -294,7 +294,7 @@ void runAccuracy(const AccuracyOptions& o) {
                 << ref[k].energy << ',' << ref[k].mean_strain << ',' << ref[k].max_strain << '\n';
       }
       std::printf("%s: %ld particles, diagonal %.3f m, reference %s h = 1/%.0f s; its error "
-                  "(distance to h x 2) at t = %.1f s: %.3g %% RMS\n",
+                  "(distance to h x 2) at t = %g s: %.3g %% RMS\n",
                   c.name.c_str(), static_cast<long>(ref.front().positions.cols()), size,
                   o.reference.c_str(),
                   2 * ref_substeps / frame, o.times.front(),
