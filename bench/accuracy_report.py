@@ -3,7 +3,10 @@
 accuracy.png: per case, RMS position error at 1 s (or the first sample time; over the cloth's diagonal)
 against ms per 1/60 s frame, log-log, one colour per solver, its Pareto front as a line.
 accuracy.md: the reference's own error (step halving), the Pareto front of every case, and the
-best configuration within half a frame (8.3 ms) and within a frame (16.7 ms).
+best configuration within half a frame (8.3 ms) and within a frame (16.7 ms). Every table has a
+"floor" row: the spread between the two references (h and h / 2) at each time, below which no
+error can be told apart. A BDF2 run's solver is "<solver>/bdf2", drawn in its solver's colour
+with a hollow marker and a dashed front.
 """
 import math
 import os
@@ -39,6 +42,18 @@ def _configs(rows):
     return out
 
 
+def com_time(times):
+    """The time of the centre-of-mass column: 1 s when sampled, else the last."""
+    return 1.0 if 1.0 in times else max(times)
+
+
+def style_of(style, solver):
+    """(colour, marker, line style): a "<solver>/<integrator>" run takes its solver's colour."""
+    base, _, integrator = solver.partition("/")
+    colour, marker = style.get(base, ("black", "."))
+    return (colour, marker, "--") if integrator else (colour, marker, "-")
+
+
 def primary_time(by_label):
     """The time the fronts are drawn at: 1 s (the bar's) when sampled, else the first."""
     times = {t for by_t in by_label.values() for t in by_t}
@@ -71,10 +86,11 @@ def plot(rows, path, style):
             if r:
                 by_solver[r["solver"]].append((_num(r["frame_ms_median"]), _num(r["rms_error"])))
         for solver, pts in sorted(by_solver.items()):
-            colour, marker = style.get(solver, ("black", "."))
-            ax.scatter(*zip(*pts), color=colour, marker=marker, s=14, alpha=0.5)
+            colour, marker, line = style_of(style, solver)
+            ax.scatter(*zip(*pts), marker=marker, s=14, alpha=0.5,
+                       **({"edgecolors": colour, "facecolors": "none"} if line == "--" else {"color": colour}))
             front = pareto(pts)
-            ax.plot(*zip(*front), color=colour, label=solver)
+            ax.plot(*zip(*front), color=colour, ls=line, label=solver)
         ax.axvline(FRAME_MS, color="gray", ls="--", lw=0.8)
         ax.axvline(FRAME_MS / 2, color="gray", ls=":", lw=0.8)
         ax.axhline(0.02, color="red", ls=":", lw=0.8)
@@ -98,9 +114,21 @@ def _row(name, by_t, times):
     for t in times:
         r = by_t.get(t)
         cells.append(_pct(_num(r["rms_error"])) if r else "-")
+    r = by_t.get(com_time(times))
+    cells.append(_pct(_num(r.get("com_error"))) if r else "-")
     last = by_t[max(by_t)]
     cells += [f"{_num(last['energy_ratio']):.3f}",
               f"{_num(last['max_strain']) / _num(last['ref_max_strain']):.2f}"]
+    return "| " + " | ".join(cells) + " |"
+
+
+def _floor_row(refs, times):
+    """The references' spread (h against h / 2) at each time: the floor of the table."""
+    by_t = {_num(r["time"]): r for r in refs}
+    cells = ["floor (reference h vs h/2)", "-"]
+    cells += [_pct(_num(by_t[t]["floor_rms"])) if t in by_t else "-" for t in times]
+    r = by_t.get(com_time(times))
+    cells += [_pct(_num(r.get("floor_com"))) if r else "-", "-", "-"]
     return "| " + " | ".join(cells) + " |"
 
 
@@ -108,8 +136,8 @@ def tables(rows, refs):
     configs = _configs(rows)
     times = sorted({_num(r["time"]) for r in rows if r["time"]})
     head = ("| configuration | ms per frame (p10-p90) | " +
-            " | ".join(f"RMS at {t:g} s" for t in times) +
-            f" | energy / ref at {times[-1]:g} s | max strain / ref |\n|" + "---|" * (len(times) + 4))
+            " | ".join(f"RMS at {t:g} s" for t in times) + f" | CoM at {com_time(times):g} s" +
+            f" | energy / ref at {times[-1]:g} s | max strain / ref |\n|" + "---|" * (len(times) + 5))
     out = []
     ref_by_case = defaultdict(list)
     for r in refs or []:
@@ -124,7 +152,8 @@ def tables(rows, refs):
         t0 = primary_time(by_label)
         pts = [(_num(by_t[t0]["frame_ms_median"]), _num(by_t[t0]["rms_error"]), name)
                for name, by_t in by_label.items() if t0 in by_t]
-        out += ["", f"Pareto front (RMS error at {t0:g} s against ms per frame):\n", head]
+        out += ["", f"Pareto front (RMS error at {t0:g} s against ms per frame):\n", head,
+                _floor_row(ref_by_case.get(case, []), times)]
         out += [_row(name, by_label[name], times) for _, _, name in pareto(pts)]
         out.append("")
         best = []

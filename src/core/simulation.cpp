@@ -22,8 +22,8 @@ const char* stepStatusName(StepStatus status) {
 }
 
 void SimulationOptions::validate() const {
-  makeSolver(solver);  // throws with the list of names
   settings.validate();
+  requireIntegrator(*makeSolver(solver), settings.integrator);  // makeSolver lists the names
   if (!std::isfinite(divergence_strain) || divergence_strain <= 0.0) {
     throw std::invalid_argument("divergence_strain must be finite and > 0");
   }
@@ -153,6 +153,7 @@ void Simulation::applySphereJumps(double sign) {
 void Simulation::rollBack(const State& state, const Colliders& colliders) {
   state_ = state;
   state_.velocities.setZero();
+  state_.has_previous = false;  // a restart: BDF2's next step is an implicit Euler step
   colliders_ = colliders;
   for (SphereCollider& s : colliders_.mutableSpheres()) {
     if (!s.isDynamic()) continue;
@@ -190,6 +191,7 @@ void Simulation::reset() {
 int Simulation::addPin(int vertex, const Vec3& target, double stiffness) {
   const int id = pins_.add(vertex, target, stiffness, model_.particleCount());
   ++revision_;
+  state_.has_previous = false;  // the new pin's particle has no BDF2 history on its target
   rebuildMovableMask();
   return id;
 }
@@ -204,6 +206,7 @@ int Simulation::addPinHere(int vertex, double stiffness) {
 void Simulation::removePin(int id) {
   pins_.remove(id);
   ++revision_;
+  state_.has_previous = false;
   rebuildMovableMask();
 }
 
@@ -261,10 +264,12 @@ void Simulation::setTimeStep(double h) {
   frame_time_ = h;
   model_.time_step = h / options_.settings.substeps;
   ++revision_;
+  state_.has_previous = false;  // BDF2's history is for the old step
 }
 
 void Simulation::setSolver(const std::string& name) {
   std::unique_ptr<Solver> next = makeSolver(name);
+  requireIntegrator(*next, options_.settings.integrator);
   retired_factorizations_ += solver_->factorizationCount();
   solver_ = std::move(next);
   options_.solver = name;
@@ -272,10 +277,13 @@ void Simulation::setSolver(const std::string& name) {
 
 void Simulation::setSolverSettings(const SolverSettings& settings) {
   settings.validate();
+  requireIntegrator(*solver_, settings.integrator);
   if (settings.substeps != options_.settings.substeps) {
     model_.time_step = frame_time_ / settings.substeps;
     ++revision_;
+    state_.has_previous = false;
   }
+  if (settings.integrator != options_.settings.integrator) ++revision_;  // another matrix
   options_.settings = settings;
 }
 

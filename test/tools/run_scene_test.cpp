@@ -73,6 +73,12 @@ TEST(RunScene, ARunTooLongToCountIsRefused) {
   EXPECT_EQ(run("--scene " + kScene + " --substeps 0"), 1);
 }
 
+TEST(RunScene, IntegratorOptionRunsBdf2AndRefusesWhatCannotUseIt) {
+  EXPECT_EQ(run("--scene " + kScene + " --duration 0.05 --integrator bdf2"), 0);
+  EXPECT_EQ(run("--scene " + kScene + " --integrator bdf3"), 1);
+  EXPECT_EQ(run("--scene " + kScene + " --integrator bdf2 --solver verlet"), 1);  // explicit
+}
+
 TEST(RunScene, BadArgumentsExitWithOne) {
   EXPECT_EQ(run("--scene " + kScene + " --solver rk4"), 1);
   EXPECT_EQ(run("--scene /nonexistent.yaml"), 1);

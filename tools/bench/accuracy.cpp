@@ -36,8 +36,14 @@ struct Config {
   int substeps = 1;
   int iterations = 1;
   double tolerance = 0.0;
+  Integrator integrator = Integrator::kImplicitEuler;
+  /// The solver column: "local_global", "local_global/bdf2".
+  std::string name() const {
+    return integrator == Integrator::kImplicitEuler ? solver
+                                                    : solver + "/" + integratorName(integrator);
+  }
   std::string label() const {
-    return solver + " s" + std::to_string(substeps) + " i" +
+    return name() + " s" + std::to_string(substeps) + " i" +
            (tolerance > 0.0 ? std::string("conv") : std::to_string(iterations));
   }
 };
@@ -71,6 +77,7 @@ Trajectory run(SceneConfig scene, const Config& config, const std::vector<int>& 
   scene.options.solver = config.solver;
   scene.options.settings.max_iterations = config.iterations;
   scene.options.settings.tolerance = config.tolerance;
+  scene.options.settings.integrator = config.integrator;
   Simulation sim = makeSimulation(scene);
   Trajectory t;
   std::size_t next = 0;
@@ -202,6 +209,10 @@ double rms(const Points& a, const Points& b) {
 double maxDistance(const Points& a, const Points& b) {
   return (a - b).colwise().norm().maxCoeff();
 }
+/// |centre of mass of a - that of b| (m), particle masses @p mass.
+double centerOfMassDistance(const Points& a, const Points& b, const Eigen::VectorXd& mass) {
+  return ((a - b) * mass).norm() / mass.sum();
+}
 /// Diagonal of the bounding box of @p x (m): the cloth's size, taken at rest.
 double diagonal(const Points& x) { return (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).norm(); }
 
@@ -232,13 +243,16 @@ void progress(int done, int total, const std::string& what) {
 
 std::vector<Config> configsFor(const AccuracyOptions& o, int grid) {
   std::vector<Config> configs;
-  for (const std::string& solver : o.solvers) {
-    for (int s : o.substeps) {
-      for (int i : o.iterations) configs.push_back({solver, s, i, 0.0});
+  for (const std::string& name : o.integrators) {
+    const Integrator integrator = integratorFromName(name);
+    for (const std::string& solver : o.solvers) {
+      for (int s : o.substeps) {
+        for (int i : o.iterations) configs.push_back({solver, s, i, 0.0, integrator});
+      }
     }
-  }
-  if (grid <= o.newton_max_grid) {
-    for (int s : o.substeps) configs.push_back({"newton", s, 100, 1e-10});
+    if (grid <= o.newton_max_grid) {
+      for (int s : o.substeps) configs.push_back({"newton", s, 100, 1e-10, integrator});
+    }
   }
   return configs;
 }
@@ -248,11 +262,13 @@ std::vector<Config> configsFor(const AccuracyOptions& o, int grid) {
 void runAccuracy(const AccuracyOptions& o) {
   std::filesystem::create_directories(o.out_dir);
   std::ofstream csv(o.out_dir + "/accuracy.csv");
-  csv << "case,solver,substeps,iterations,time,rms_error,max_error,energy_ratio,mean_strain,"
+  for (const std::string& name : o.integrators) integratorFromName(name);  // fail before running
+  csv << "case,solver,substeps,iterations,time,rms_error,max_error,com_error,energy_ratio,mean_strain,"
          "max_strain,ref_mean_strain,ref_max_strain,frame_ms_median,frame_ms_p10,frame_ms_p90,"
          "rollbacks,status\n";
   std::ofstream ref_csv(o.out_dir + "/accuracy_reference.csv");
-  ref_csv << "case,particles,diagonal,reference,h_ref,time,floor_rms,floor_max,energy,mean_strain,max_strain\n";
+  ref_csv << "case,particles,diagonal,reference,h_ref,time,floor_rms,floor_max,floor_com,energy,"
+             "mean_strain,max_strain\n";
 
   for (const std::string& scene_name : o.scenes) {
     const std::string file = o.scenes_dir + "/" + scene_name + ".yaml";
@@ -275,16 +291,19 @@ void runAccuracy(const AccuracyOptions& o) {
       const std::vector<Sample> ref =
           reference(c.config, c.name, 2 * ref_substeps, frames, o);
       progress(2, 2, c.name + " reference done");
-      const double size = diagonal(makeSimulation(c.config).state().positions);
+      const Simulation at_rest = makeSimulation(c.config);
+      const double size = diagonal(at_rest.state().positions);
+      const Eigen::VectorXd& mass = at_rest.model().mass;
       for (std::size_t k = 0; k < frames.size(); ++k) {
         ref_csv << c.name << ',' << ref[k].positions.cols() << ',' << size << ',' << ref_kind
                 << ','                 << frame / (2 * ref_substeps) << ',' << o.times[k] << ','
                 << rms(coarse[k].positions, ref[k].positions) / size << ','
                 << maxDistance(coarse[k].positions, ref[k].positions) / size << ','
+                << centerOfMassDistance(coarse[k].positions, ref[k].positions, mass) / size << ','
                 << ref[k].energy << ',' << ref[k].mean_strain << ',' << ref[k].max_strain << '\n';
       }
       std::printf("%s: %ld particles, diagonal %.3f m, reference %s h = 1/%.0f s; its error "
-                  "(distance to h x 2) at t = %.1f s: %.3g %% RMS\n",
+                  "(distance to h x 2) at t = %g s: %.3g %% RMS\n",
                   c.name.c_str(), static_cast<long>(ref.front().positions.cols()), size,
                   ref_kind.c_str(),
                   2 * ref_substeps / frame, o.times.front(),
@@ -298,18 +317,19 @@ void runAccuracy(const AccuracyOptions& o) {
         const std::string status = t.stopped ? "too_slow" : t.rollbacks > 0 ? "rolled_back" : "ok";
         for (std::size_t k = 0; k < t.samples.size(); ++k) {
           const Sample& s = t.samples[k];
-          csv << c.name << ',' << cfg.solver << ',' << cfg.substeps << ','
+          csv << c.name << ',' << cfg.name() << ',' << cfg.substeps << ','
               << (cfg.tolerance > 0.0 ? 0 : cfg.iterations) << ',' << o.times[k] << ','
               << rms(s.positions, ref[k].positions) / size << ','
               << maxDistance(s.positions, ref[k].positions) / size << ','
+              << centerOfMassDistance(s.positions, ref[k].positions, mass) / size << ','
               << s.energy / ref[k].energy << ',' << s.mean_strain << ',' << s.max_strain << ','
               << ref[k].mean_strain << ',' << ref[k].max_strain << ',' << median(t.frame_ms)
               << ',' << quantile(t.frame_ms, 0.1) << ',' << quantile(t.frame_ms, 0.9) << ','
               << t.rollbacks << ',' << status << '\n';
         }
         if (t.samples.empty()) {
-          csv << c.name << ',' << cfg.solver << ',' << cfg.substeps << ',' << cfg.iterations
-              << ",,,,,,,,," << median(t.frame_ms) << ",,," << t.rollbacks << ',' << status << '\n';
+          csv << c.name << ',' << cfg.name() << ',' << cfg.substeps << ',' << cfg.iterations
+              << ",,,,,,,,,," << median(t.frame_ms) << ",,," << t.rollbacks << ',' << status << '\n';
         }
         csv.flush();
       }

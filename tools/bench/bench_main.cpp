@@ -62,8 +62,14 @@ int main(int argc, char** argv) {
   stab_cmd->add_option("--out", stability.out_dir, "output directory")->capture_default_str();
   stab_cmd->add_option("--grid", stability.grid, "particles per side")->capture_default_str()
       ->check(CLI::Range(3, 200));
-  stab_cmd->add_option("--solvers", stability.solvers, "solvers")->delimiter(',')
-      ->capture_default_str()->check(CLI::IsMember(cloth_sim::solverNames()));
+  std::vector<std::string> stability_solvers = cloth_sim::solverNames();  // and "<solver>/bdf2"
+  for (const std::string& name : cloth_sim::solverNames()) {
+    if (cloth_sim::makeSolver(name)->supports(cloth_sim::Integrator::kBdf2)) {
+      stability_solvers.push_back(name + "/bdf2");
+    }
+  }
+  stab_cmd->add_option("--solvers", stability.solvers, "solvers, <solver>/bdf2 for BDF2")
+      ->delimiter(',')->capture_default_str()->check(CLI::IsMember(stability_solvers));
   stab_cmd->add_option("--stiffness", stability.stiffness, "structural stiffness values, N/m")
       ->delimiter(',')->check(CLI::PositiveNumber);
   stab_cmd->add_option("--dt", stability.time_steps, "time steps, s")->delimiter(',')
@@ -109,11 +115,17 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   accuracy_cmd->add_option("--scenes", accuracy.scenes, "scenes")->delimiter(',')
       ->capture_default_str()
-      ->check(CLI::IsMember({"hanging", "drape", "trampoline", "gravity_well", "tablecloth"}));
+      ->check(CLI::IsMember({"hanging", "drape", "trampoline", "gravity_well", "tablecloth",
+                              "peer_cloth"}));
   accuracy_cmd->add_option("--grids", accuracy.grids, "grid sizes (rows = cols)")->delimiter(',')
       ->capture_default_str()->check(CLI::Range(4, 400));
   accuracy_cmd->add_option("--solvers", accuracy.solvers, "solvers")->delimiter(',')
       ->capture_default_str()->check(CLI::IsMember(cloth_sim::solverNames()));
+  accuracy_cmd->add_option("--integrators", accuracy.integrators,
+                           "integrators, each configuration runs with each")
+      ->delimiter(',')
+      ->check(CLI::IsMember(cloth_sim::integratorNames()))
+      ->capture_default_str();
   accuracy_cmd->add_option("--substeps", accuracy.substeps, "substeps per frame")->delimiter(',')
       ->capture_default_str()->check(CLI::Range(1, 1000));
   accuracy_cmd->add_option("--iterations", accuracy.iterations, "iterations per substep")

@@ -46,7 +46,11 @@ SceneConfig stabilityScene(Scenario scenario, int grid, double stiffness, double
   }
   c.time_step = time_step;
   c.damping = damping;
-  c.options.solver = solver;
+  const std::size_t slash = solver.find('/');
+  c.options.solver = solver.substr(0, slash);
+  if (slash != std::string::npos) {
+    c.options.settings.integrator = integratorFromName(solver.substr(slash + 1));
+  }
   c.options.settings.max_iterations = iterations;
   for (int col = 0; col < grid; ++col) c.pins.push_back(PinSelector::atVertex(gridVertex(0, col, grid)));
   return c;

@@ -23,8 +23,9 @@ struct StabilityOptions {
   int grid = 16;                     ///< particles per side
   std::vector<double> stiffness = {1e1, 1e2, 1e3, 1e4, 1e5, 1e6};  ///< structural, N/m
   std::vector<double> time_steps = {1.0 / 240, 1.0 / 120, 1.0 / 60, 1.0 / 30, 1.0 / 15};
+  /// A solver name, or "<solver>/<integrator>" for another SolverSettings::integrator.
   std::vector<std::string> solvers = {"explicit_euler", "verlet", "newton", "local_global",
-                                      "chebyshev", "local_global_3n"};
+                                      "chebyshev", "local_global_3n", "local_global/bdf2"};
   std::vector<Scenario> scenarios = {Scenario::kRelease, Scenario::kTeleport, Scenario::kSphere};
   int iterations = 10;               ///< per step (newton: cap)
   /// s: the event is at 0.5 s; 2.5 s later even the 10 N/m cloth has settled under 100 %.
@@ -49,7 +50,8 @@ struct CellResult {
   bool stable() const { return finite && rollbacks == 0 && end_strain <= 1.0; }
 };
 
-/// The scene of one cell (the sphere and the teleport are applied by runCell).
+/// The scene of one cell (the sphere and the teleport are applied by runCell). @p solver: a
+/// solver name or "<solver>/<integrator>" ("local_global/bdf2").
 SceneConfig stabilityScene(Scenario scenario, int grid, double stiffness, double time_step,
                            const std::string& solver, int iterations, double damping);
 

@@ -18,7 +18,7 @@ namespace {
 constexpr int kMaxFrames = 100000000;
 
 struct Options {
-  std::string scene_path, solver, linear_solver, csv, json, positions;
+  std::string scene_path, solver, linear_solver, integrator, csv, json, positions;
   std::optional<int> iterations, substeps;
   std::optional<double> dt, tolerance;
   double duration = 5.0;
@@ -71,6 +71,8 @@ int main(int argc, char** argv) {
       ->check(allowedBy(settings::kTolerance));
   app.add_option("--linear-solver", o.linear_solver, "global step solve (default: fused)")
       ->check(CLI::IsMember(linearSolverNames()));
+  app.add_option("--integrator", o.integrator, "implicit_euler or bdf2 (default: the scene's)")
+      ->check(CLI::IsMember(integratorNames()));
   auto* csv = app.add_option("--csv", o.csv, "per-step CSV to this file ('-' = stdout)");
   app.add_option("--json", o.json, "per-step JSON to this file ('-' = stdout)")->excludes(csv);
   app.add_option("--positions", o.positions, "final positions (CSV: particle,x,y,z in m) to this file");
@@ -91,6 +93,7 @@ int main(int argc, char** argv) {
     overrides.tolerance = o.tolerance;
     if (!o.linear_solver.empty()) overrides.linear_solver = linearSolverFromName(o.linear_solver);
     overrides.time_step = o.dt;
+    if (!o.integrator.empty()) overrides.integrator = integratorFromName(o.integrator);
     if (o.warm_start) overrides.warm_start = true;
     const SceneConfig scene = applyOverrides(loadSceneFile(o.scene_path), overrides);
     Simulation sim = makeSimulation(scene);

@@ -54,9 +54,10 @@ struct SimulationOptions {
 /// A mass-spring object with its pins and colliders, advanced one time step at a time.
 ///
 /// Every editing method validates its input first and throws std::invalid_argument with a
-/// message naming what is wrong, leaving the simulation untouched. Changing h, a stiffness or
-/// the set of pins bumps the revision, so a factorizing solver refactors once at the next step;
-/// moving a pin target or a sphere does not.
+/// message naming what is wrong, leaving the simulation untouched. Changing h, a stiffness, the
+/// set of pins or the integrator bumps the revision, so a factorizing solver refactors once at
+/// the next step; moving a pin target or a sphere does not. Reset, rollback, a pin-set change
+/// and a new step size clear the state's BDF2 history (State::has_previous).
 class Simulation {
  public:
   Simulation(Model model, const Points& rest_positions, PinSet pins, Colliders colliders,
@@ -92,6 +93,7 @@ class Simulation {
   /// Sets the frame time (s) that step() advances; the implicit step is h / substeps.
   void setTimeStep(double h);
   /// Switches solver (by name); the new one factorizes at its first step if it needs to.
+  /// Throws if it does not support the current SolverSettings::integrator.
   void setSolver(const std::string& name);
   void setSolverSettings(const SolverSettings& settings);
 

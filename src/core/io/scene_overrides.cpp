@@ -10,6 +10,7 @@ SceneConfig applyOverrides(SceneConfig scene, const SceneOverrides& overrides) {
   if (overrides.tolerance) settings.tolerance = *overrides.tolerance;
   if (overrides.linear_solver) settings.linear_solver = *overrides.linear_solver;
   if (overrides.warm_start) settings.warm_start = *overrides.warm_start;
+  if (overrides.integrator) settings.integrator = *overrides.integrator;
   if (overrides.time_step) scene.time_step = *overrides.time_step;
   return scene;
 }

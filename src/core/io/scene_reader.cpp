@@ -149,7 +149,8 @@ class Reader {
 
 void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& options) {
   const std::string path = "solver";
-  r.map(node, path, {"name", "iterations", "substeps", "tolerance", "chebyshev", "anderson", "lbfgs"});
+  r.map(node, path, {"name", "iterations", "substeps", "tolerance", "integrator", "chebyshev",
+                     "anderson", "lbfgs"});
   if (node["name"]) {
     options.solver = r.text(node["name"], path + ".name");
     try {
@@ -159,6 +160,14 @@ void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& opti
     }
   }
   SolverSettings& s = options.settings;
+  if (node["integrator"]) {
+    const std::string name = r.text(node["integrator"], settings::kIntegrator.name);
+    try {  // the message lists the names
+      s.integrator = integratorFromName(name);
+    } catch (const std::invalid_argument& e) {
+      r.fail(settings::kIntegrator.name, e.what());
+    }
+  }
   if (node["iterations"]) {
     s.max_iterations = r.integer(node["iterations"], path + ".iterations", settings::kIterations);
   }

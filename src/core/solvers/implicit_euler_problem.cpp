@@ -9,13 +9,28 @@ namespace cloth_sim {
 double velocityDecay(const Model& model) { return std::exp(-model.damping * model.time_step); }
 
 ImplicitStepProblem ImplicitStepProblem::build(const Model& model, const PinSet& pins,
-                                               const State& state) {
+                                               const State& state, Integrator integrator) {
   ImplicitStepProblem p;
   p.model = &model;
   p.pins = &pins;
   p.h = model.time_step;
   p.start = state.positions;
-  p.inertial = state.positions + (p.h * velocityDecay(model)) * state.velocities;
+  p.start_velocities = state.velocities;
+  p.bdf2 = integrator == Integrator::kBdf2 && state.has_previous &&
+           state.previous_positions.cols() == state.positions.cols() &&
+           state.previous_velocities.cols() == state.positions.cols();
+  if (p.bdf2) {
+    // Each past velocity decays by its age (q, q^2): exact for a free damped particle, whose
+    // velocities then stay q^n v_0, as implicit Euler's q v_n is.
+    const double q = velocityDecay(model);
+    p.implicit_h = 2.0 * p.h / 3.0;
+    p.previous = state.previous_positions;
+    p.inertial = (4.0 * state.positions - state.previous_positions) / 3.0 +
+                 (2.0 * p.h / 9.0) * (4.0 * q * state.velocities - q * q * state.previous_velocities);
+  } else {
+    p.implicit_h = p.h;
+    p.inertial = state.positions + (p.h * velocityDecay(model)) * state.velocities;
+  }
   for (const Pin& pin : pins.pins()) {
     if (pin.isHard()) p.inertial.col(pin.vertex) = pin.target;
   }
@@ -36,7 +51,7 @@ double ImplicitStepProblem::objective(const Points& x) const {
 
 double ImplicitStepProblem::objective(const Points& x, double spring_energy) const {
   const double inertia = 0.5 * ((x - inertial).colwise().squaredNorm() * model->mass)(0);
-  return inertia + h * h * (spring_energy + externalPotential(*model, *pins, x));
+  return inertia + implicit_h * implicit_h * (spring_energy + externalPotential(*model, *pins, x));
 }
 
 void totalForces(const Model& model, const PinSet& pins, const Points& x, Points& forces) {
@@ -48,10 +63,10 @@ void totalForces(const Model& model, const PinSet& pins, const Points& x, Points
 }
 
 void ImplicitStepProblem::gradient(const Points& x, Points& grad) const {
-  // M (x - y) - h^2 f, f the spring, gravity and soft-pin forces.
+  // M (x - y) - h_i^2 f, f the spring, gravity and soft-pin forces.
   Points forces;
   totalForces(*model, *pins, x, forces);
-  grad = (x - inertial) * model->mass.asDiagonal() - h * h * forces;
+  grad = (x - inertial) * model->mass.asDiagonal() - implicit_h * implicit_h * forces;
   for (const Pin& pin : pins->pins()) {
     if (pin.isHard()) grad.col(pin.vertex).setZero();
   }
@@ -60,8 +75,12 @@ void ImplicitStepProblem::gradient(const Points& x, Points& grad) const {
 State ImplicitStepProblem::finish(const Points& x, double start_time) const {
   State next;
   next.positions = x;
-  next.velocities = (x - start) / h;
+  if (bdf2) next.velocities = (3.0 * x - 4.0 * start + previous) / (2.0 * h);
+  else next.velocities = (x - start) / h;
   next.time = start_time + h;
+  next.previous_positions = start;
+  next.previous_velocities = start_velocities;
+  next.has_previous = true;
   return next;
 }
 

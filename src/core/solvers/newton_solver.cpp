@@ -42,8 +42,8 @@ void NewtonSolver::prepare(const SolverInput& in, LinearSolver backend) {
 }
 
 void NewtonSolver::assembleHessian(const Model& model, const PinSet& pins, const Points& x,
-                                   bool clamp_psd) {
-  const double h2 = model.time_step * model.time_step;
+                                   double h, bool clamp_psd) {
+  const double h2 = h * h;
   double* values = pattern_.matrix().valuePtr();
   std::fill(values, values + pattern_.matrix().nonZeros(), 0.0);
   auto add_block = [values](const int* starts, const Eigen::Matrix3d& block, double sign) {
@@ -90,7 +90,8 @@ bool NewtonSolver::factorize() {
 
 SolveResult NewtonSolver::step(const SolverInput& in, const SolverSettings& settings,
                                State& state) {
-  const ImplicitStepProblem problem = ImplicitStepProblem::build(in.model, in.pins, state);
+  const ImplicitStepProblem problem =
+      ImplicitStepProblem::build(in.model, in.pins, state, settings.integrator);
   Points x = problem.inertial;
   const SolveResult result = minimize(in, settings, problem, x);
   state = problem.finish(x, state.time);
@@ -123,12 +124,12 @@ SolveResult NewtonSolver::minimize(const SolverInput& in, const SolverSettings& 
     }
     bool factored = false;
     if (near) {
-      assembleHessian(in.model, in.pins, x, /*clamp_psd=*/false);
+      assembleHessian(in.model, in.pins, x, problem.implicit_h, /*clamp_psd=*/false);
       factored = factorize();
     }
     const bool exact = factored;
     if (!factored) {
-      assembleHessian(in.model, in.pins, x, /*clamp_psd=*/true);
+      assembleHessian(in.model, in.pins, x, problem.implicit_h, /*clamp_psd=*/true);
       if (!factorize()) break;  // cannot happen for H >= M > 0 short of non-finite input
     }
     if (backend_ == LinearSolver::kEigen) {

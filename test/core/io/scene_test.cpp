@@ -215,6 +215,24 @@ TEST(Scene, SyntaxErrorsAndMissingFilesAreReported) {
   EXPECT_THROW(loadSceneFile("/nonexistent/scene.yaml"), SceneError);
 }
 
+TEST(Scene, IntegratorIsReadAndAnUnknownNameListsTheValidOnes) {
+  EXPECT_EQ(parseScene(kValid, "minimal").options.settings.integrator, Integrator::kImplicitEuler);
+  const std::string scene = std::string(kValid) + "solver: {name: newton, integrator: bdf2}\n";
+  EXPECT_EQ(parseScene(scene, "bdf2.yaml").options.settings.integrator, Integrator::kBdf2);
+  try {
+    parseScene(std::string(kValid) + "solver: {integrator: bdf3}\n", "bad.yaml");
+    FAIL();
+  } catch (const SceneError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("solver.integrator"), std::string::npos) << what;
+    EXPECT_NE(what.find("implicit_euler, bdf2"), std::string::npos) << what;
+  }
+  // An explicit solver cannot integrate with BDF2: refused when the simulation is built.
+  EXPECT_THROW(
+      readAndBuild(std::string(kValid) + "solver: {name: verlet, integrator: bdf2}\n"),
+      std::invalid_argument);
+}
+
 TEST(Scene, EdgePinsCoverTheBorderOnce) {
   const std::string yaml = std::string(kValid) + "pins: [{edge: top}, {edge: left, stiffness: 20}]\n";
   const std::vector<PinSpec> pins = pinsOf(parseScene(yaml, "edges"));

@@ -20,6 +20,18 @@ TEST(RevisionCache, RebuildsOnlyWhenTheRevisionOrTheLinearSolverChanges) {
   EXPECT_EQ(builds, 4);
 }
 
+TEST(RevisionCache, RebuildsWhenTheImplicitStepChanges) {
+  // BDF2: the first step's matrix has h_i = h, the next ones 2h/3, same revision.
+  RevisionCache cache;
+  int builds = 0;
+  const auto build = [&] { ++builds; };
+  const double h = 1.0 / 60.0;
+  EXPECT_TRUE(cache.ensure(1, LinearSolver::kFused, h, build));
+  EXPECT_TRUE(cache.ensure(1, LinearSolver::kFused, 2.0 * h / 3.0, build));
+  EXPECT_FALSE(cache.ensure(1, LinearSolver::kFused, 2.0 * h / 3.0, build));
+  EXPECT_EQ(builds, 2);
+}
+
 TEST(RevisionCache, AFailedRebuildIsRetried) {
   RevisionCache cache;
   EXPECT_THROW(cache.ensure(1, [] { throw std::runtime_error("factorization failed"); }),

@@ -1,6 +1,7 @@
 /// @file scene_overrides.h
 /// What a caller replaces in a scene before building it: the node's ~solver / ~iterations /
-/// ~substeps, the runner's --solver, --iterations, --substeps, --tolerance, --linear-solver, --dt, --warm-start. Each caller
+/// ~substeps, the runner's --solver, --iterations, --substeps, --tolerance, --linear-solver, --dt,
+/// --warm-start, --integrator. Each caller
 /// checks its values against settings_table.h in its own message format; Simulation checks the
 /// result again when it is built.
 #pragma once
@@ -21,6 +22,7 @@ struct SceneOverrides {
   std::optional<LinearSolver> linear_solver;    ///< SolverSettings::linear_solver
   std::optional<double> time_step;              ///< s
   std::optional<bool> warm_start;               ///< SolverSettings::warm_start
+  std::optional<Integrator> integrator;         ///< SolverSettings::integrator
 };
 
 /// @p scene with the non-empty fields of @p overrides in place of its own.

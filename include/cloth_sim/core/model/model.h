@@ -66,6 +66,13 @@ struct State {
   Points positions;   ///< m
   Points velocities;  ///< m/s
   double time = 0.0;  ///< s of simulated time
+  /// The state one step before (x_{n-1}, v_{n-1}), written by every implicit step for
+  /// Integrator::kBdf2. Valid only when has_previous: false at the start, and cleared by
+  /// Simulation on reset, rollback, a pin-set change or a new step size (then the next step is
+  /// an implicit Euler step). The explicit solvers clear it too.
+  Points previous_positions;   ///< m
+  Points previous_velocities;  ///< m/s
+  bool has_previous = false;
 
   /// A state at rest at @p rest_positions.
   static State atRest(const Points& rest_positions);

@@ -32,7 +32,17 @@ struct Setting {
   void require(double value) const;
 };
 
+/// One tunable name: a choice among a fixed list of names (the list lives with its enum).
+struct NameSetting {
+  const char* name;   ///< scene field ("solver.integrator")
+  const char* param;  ///< the node's parameter name, "" if not exposed
+  const char* doc;    ///< one line for users (cfg, --help)
+};
+
 namespace settings {
+/// SolverSettings::integrator; names from integratorNames() (solvers/solver.h).
+inline constexpr NameSetting kIntegrator{"solver.integrator", "integrator",
+                                         "Time discretisation: implicit_euler (default) or bdf2 (less numerical damping)"};
 // clang-format off
 //                                  name                         param                   range                              int    unit      note                 doc                                                   slider
 inline constexpr Setting kIterations{"solver.iterations",       "iterations",           Range::closed(1, 100000),           true,  "",       "",                  "Solver iterations per step (a cap for newton)",     0};

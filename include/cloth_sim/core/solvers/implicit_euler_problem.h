@@ -1,10 +1,12 @@
 /// @file implicit_euler_problem.h
-/// One implicit Euler step posed as a minimisation (docs/method.md; Liu et al. 2013, eq. 4).
+/// One implicit step (implicit Euler or BDF2) posed as a minimisation (docs/method.md; Liu et
+/// al. 2013, eq. 4).
 #pragma once
 
 #include "cloth_sim/core/model/model.h"
 #include "cloth_sim/core/model/pins.h"
 #include "cloth_sim/core/linalg/types.h"
+#include "cloth_sim/core/solvers/solver.h"
 
 namespace cloth_sim {
 
@@ -19,17 +21,34 @@ double velocityDecay(const Model& model);
 ///   y = x_n + h exp(-gamma h) v_n,
 ///   E(x) = sum_springs 1/2 k (|x_i - x_j| - r)^2 + sum_soft_pins 1/2 k |x_v - t|^2 - sum_i m_i g.x_i.
 ///
+/// The BDF2 step (Integrator::kBdf2, docs/method.md "BDF2") has the same form with h^2 scaled
+/// by 4/9, i.e. with the implicit step h_i = 2h/3 in place of h, and an inertial prediction from
+/// the two last states, q = exp(-gamma h):
+///
+///   y = (4 x_n - x_{n-1}) / 3 + (2h/9) (4 q v_n - q^2 v_{n-1}),
+///   v_{n+1} = (3 x_{n+1} - 4 x_n + x_{n-1}) / (2h).
+///
+/// Without a valid previous state (State::has_previous) it is an implicit Euler step.
+///
 /// Hard-pinned particles are not unknowns: they sit on their targets in @c inertial and in every
-/// iterate. g is in kg m^2 (energy times h^2).
+/// iterate. g is in kg m^2 (energy times h_i^2).
 struct ImplicitStepProblem {
   const Model* model = nullptr;
   const PinSet* pins = nullptr;
-  double h = 0.0;    ///< s
-  Points start;      ///< x_n, m
-  Points inertial;   ///< y, m; hard-pinned particles at their targets
+  double h = 0.0;    ///< s, the time step
+  /// s, h_i: the step of the h_i^2 E(x) term and of the global matrix M + h_i^2 L; h for
+  /// implicit Euler, 2h/3 for BDF2.
+  double implicit_h = 0.0;
+  bool bdf2 = false;         ///< a BDF2 step (else implicit Euler)
+  Points start;              ///< x_n, m
+  Points start_velocities;   ///< v_n, m/s (kept as the next step's history)
+  Points previous;           ///< x_{n-1}, m (BDF2 only)
+  Points inertial;           ///< y, m; hard-pinned particles at their targets
 
-  /// Builds y from @p state (positions x_n, velocities v_n) and the current pin targets.
-  static ImplicitStepProblem build(const Model& model, const PinSet& pins, const State& state);
+  /// Builds y from @p state (positions x_n, velocities v_n, and for BDF2 its previous state)
+  /// and the current pin targets. kBdf2 without State::has_previous builds implicit Euler.
+  static ImplicitStepProblem build(const Model& model, const PinSet& pins, const State& state,
+                                   Integrator integrator = Integrator::kImplicitEuler);
 
   /// g(x), kg m^2. @p x must hold hard-pinned particles at their targets.
   double objective(const Points& x) const;
@@ -37,7 +56,8 @@ struct ImplicitStepProblem {
   double objective(const Points& x, double spring_energy) const;
   /// dg/dx (kg m), zero on hard-pinned particles.
   void gradient(const Points& x, Points& grad) const;
-  /// The end-of-step state for positions @p x: v_{n+1} = (x - x_n) / h, time advanced by h.
+  /// The end-of-step state for positions @p x: v_{n+1} = (x - x_n) / h (BDF2:
+  /// (3 x - 4 x_n + x_{n-1}) / (2h)), time advanced by h, x_n and v_n kept as its history.
   State finish(const Points& x, double start_time) const;
 };
 

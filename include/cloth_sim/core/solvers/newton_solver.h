@@ -48,7 +48,9 @@ class NewtonSolver final : public Solver {
 
  private:
   void prepare(const SolverInput& input, LinearSolver backend);
-  void assembleHessian(const Model& model, const PinSet& pins, const Points& x, bool clamp_psd);
+  /// The Hessian of g: M + h^2 K(x) (@p h the implicit step h_i, s).
+  void assembleHessian(const Model& model, const PinSet& pins, const Points& x, double h,
+                       bool clamp_psd);
   bool factorize();
 
   RevisionCache pattern_cache_;  ///< the pattern and its analysis

@@ -30,6 +30,24 @@ std::vector<std::string> linearSolverNames();
 /// The LinearSolver called @p name; throws std::invalid_argument listing the names if unknown.
 LinearSolver linearSolverFromName(const std::string& name);
 
+/// The time discretisation the implicit solvers minimise (docs/method.md, "BDF2").
+enum class Integrator {
+  /// x_{n+1} = argmin 1/2 |x - y|_M^2 + h^2 E(x), y = x_n + h v_n: first order, and its
+  /// numerical damping removes the fast modes' energy within a few steps.
+  kImplicitEuler,
+  /// Second-order backward differentiation: x_{n+1} = argmin 1/2 |x - y|_M^2 + (4/9) h^2 E(x),
+  /// y from the two last states; far less numerical damping, same kind of matrix.
+  kBdf2,
+};
+/// Every Integrator, in the order of the enum.
+inline constexpr Integrator kIntegrators[] = {Integrator::kImplicitEuler, Integrator::kBdf2};
+/// "implicit_euler", "bdf2".
+const char* integratorName(Integrator integrator);
+/// The names of kIntegrators.
+std::vector<std::string> integratorNames();
+/// The Integrator called @p name; throws std::invalid_argument listing the names if unknown.
+Integrator integratorFromName(const std::string& name);
+
 /// Iteration controls shared by the solvers (each uses what applies to it). The allowed range
 /// of each field is its entry in settings/settings_table.h (settings::kIterations, ...).
 struct SolverSettings {
@@ -64,6 +82,9 @@ struct SolverSettings {
   bool warm_start = false;
   /// How the linear systems are solved (same result, different speed), see LinearSolver.
   LinearSolver linear_solver = LinearSolver::kFused;
+  /// The time discretisation (scene field solver.integrator). The implicit solvers all minimise
+  /// the same ImplicitStepProblem for it; the explicit baselines refuse kBdf2.
+  Integrator integrator = Integrator::kImplicitEuler;
 
   /// Throws std::invalid_argument naming the first field out of its range
   /// ("solver.iterations = 0 must be in [1, 100000]").
@@ -88,8 +109,9 @@ class ContactForces;
 struct SolverInput {
   const Model& model;
   const PinSet& pins;
-  /// Bumped whenever h, a stiffness, a mass or the set of pins changes: a solver holding a
-  /// factorization refactors when it sees a new value, and only then.
+  /// Bumped whenever h, a stiffness, a mass, the set of pins or SolverSettings::integrator
+  /// changes: a solver holding a factorization refactors when it sees a new value (or, within
+  /// a BDF2 run, a new implicit step h_i: see RevisionCache), and only then.
   std::uint64_t revision;
   /// Contact forces to solve with the step, or nullptr. Only local_global, chebyshev and anderson
   /// use them (lbfgs, newton, local_global_3n and the explicit solvers ignore them; Simulation
@@ -107,12 +129,21 @@ class Solver {
   /// Advances @p state by one step. May leave non-finite values on blow-up: the caller checks.
   virtual SolveResult step(const SolverInput& input, const SolverSettings& settings,
                            State& state) = 0;
+  /// Whether step() can integrate with @p integrator (the explicit solvers only know their own).
+  virtual bool supports(Integrator integrator) const {
+    (void)integrator;
+    return true;
+  }
   /// Sparse matrix factorizations done so far (numeric ones; Newton does one per iteration).
   int factorizationCount() const { return factorizations_; }
 
  protected:
   int factorizations_ = 0;
 };
+
+/// Throws std::invalid_argument ("solver.integrator = bdf2 is not supported by verlet; ...")
+/// unless @p solver supports @p integrator.
+void requireIntegrator(const Solver& solver, Integrator integrator);
 
 /// The names makeSolver accepts, from solverRegistry() (solvers/registry.h).
 std::vector<std::string> solverNames();

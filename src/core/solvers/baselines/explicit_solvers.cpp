@@ -16,7 +16,10 @@ void applyHardPins(const PinSet& pins, const Points& start, double h, State& sta
 
 }  // namespace
 
-SolveResult ExplicitEulerSolver::step(const SolverInput& in, const SolverSettings&, State& state) {
+SolveResult ExplicitEulerSolver::step(const SolverInput& in, const SolverSettings& settings,
+                                      State& state) {
+  requireIntegrator(*this, settings.integrator);
+  state.has_previous = false;  // no implicit step's history
   const double h = in.model.time_step;
   const Points start = state.positions;
   Points forces;
@@ -29,7 +32,10 @@ SolveResult ExplicitEulerSolver::step(const SolverInput& in, const SolverSetting
   return SolveResult{1, 0.0, false};
 }
 
-SolveResult VerletSolver::step(const SolverInput& in, const SolverSettings&, State& state) {
+SolveResult VerletSolver::step(const SolverInput& in, const SolverSettings& settings,
+                               State& state) {
+  requireIntegrator(*this, settings.integrator);
+  state.has_previous = false;  // no implicit step's history
   const double h = in.model.time_step;
   const auto inverse_mass = in.model.mass.cwiseInverse().asDiagonal();
   const Points start = state.positions;

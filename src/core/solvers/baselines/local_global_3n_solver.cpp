@@ -5,9 +5,9 @@
 
 namespace cloth_sim {
 
-void LocalGlobal3nSolver::factorize(const SolverInput& in) {
+void LocalGlobal3nSolver::factorize(const SolverInput& in, double h) {
   dofs_ = FreeParticleMap::fromPins(in.model.particleCount(), in.pins);
-  const Eigen::SparseMatrix<double> scalar = globalStepMatrix(in.model, in.pins, dofs_);
+  const Eigen::SparseMatrix<double> scalar = globalStepMatrix(in.model, in.pins, dofs_, h);
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(3 * scalar.nonZeros());
   for (int col = 0; col < scalar.outerSize(); ++col) {
@@ -28,12 +28,13 @@ void LocalGlobal3nSolver::factorize(const SolverInput& in) {
 
 SolveResult LocalGlobal3nSolver::step(const SolverInput& in, const SolverSettings& settings,
                                       State& state) {
-  factor_cache_.ensure(in.revision, [&] { factorize(in); });
   const Model& model = in.model;
   const Springs& springs = model.springs;
-  const double h2 = model.time_step * model.time_step;
-  const ImplicitStepProblem problem = ImplicitStepProblem::build(model, in.pins, state);
-  const Points constant = globalStepConstant(model, in.pins, dofs_, problem.inertial);
+  const ImplicitStepProblem problem =
+      ImplicitStepProblem::build(model, in.pins, state, settings.integrator);
+  const double h = problem.implicit_h, h2 = h * h;
+  factor_cache_.ensure(in.revision, LinearSolver::kEigen, h, [&] { factorize(in, h); });
+  const Points constant = globalStepConstant(model, in.pins, dofs_, h, problem.inertial);
   const int nf = dofs_.freeCount();
 
   Points x = problem.inertial, x_next = x, push_sum(3, x.cols());

@@ -52,9 +52,9 @@ void GlobalSystem::solveInPlace(double* x) {
 }
 
 Eigen::SparseMatrix<double> globalStepMatrix(const Model& model, const PinSet& pins,
-                                             const FreeParticleMap& dofs) {
+                                             const FreeParticleMap& dofs, double h) {
   const Springs& springs = model.springs;
-  const double h2 = model.time_step * model.time_step;
+  const double h2 = h * h;
   const int nf = dofs.freeCount();
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(nf + 4 * springs.size() + pins.size());
@@ -81,8 +81,8 @@ Eigen::SparseMatrix<double> globalStepMatrix(const Model& model, const PinSet& p
 }
 
 Points globalStepConstant(const Model& model, const PinSet& pins, const FreeParticleMap& dofs,
-                          const Points& y) {
-  const double h2 = model.time_step * model.time_step;
+                          double h, const Points& y) {
+  const double h2 = h * h;
   Points rhs = (y + h2 * model.gravity.replicate(1, y.cols())) * model.mass.asDiagonal();
   for (const Pin& pin : pins.pins()) {
     if (!pin.isHard()) rhs.col(pin.vertex) += h2 * pin.stiffness * pin.target;

@@ -13,15 +13,15 @@ double relativeChange(const NodeBuffer& next, const NodeBuffer& current, const N
   return moved > 0.0 ? (asVector(next) - asVector(current)).norm() / moved : 0.0;
 }
 
-int LocalGlobalProblem::factorize(const SolverInput& in, LinearSolver backend) {
+int LocalGlobalProblem::factorize(const SolverInput& in, LinearSolver backend, double h) {
   const Model& model = in.model;
   const Springs& springs = model.springs;
-  const double h2 = model.time_step * model.time_step;
+  const double h2 = h * h;
   dofs_ = FreeParticleMap::fromPins(model.particleCount(), in.pins);
   const FreeParticleMap& dofs = dofs_;
   const int nf = dofs.freeCount();
 
-  const Eigen::SparseMatrix<double> a = globalStepMatrix(model, in.pins, dofs);
+  const Eigen::SparseMatrix<double> a = globalStepMatrix(model, in.pins, dofs, h);
   system_.factor(a, backend);
   correction_.clear();  // node order and system changed
 
@@ -59,17 +59,18 @@ int LocalGlobalProblem::factorize(const SolverInput& in, LinearSolver backend) {
 
 int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& settings,
                               const State& state) {
-  int factorizations = 0;
-  factor_cache_.ensure(in.revision, settings.linear_solver,
-                       [&] { factorizations = factorize(in, settings.linear_solver); });
   const Model& model = in.model;
-  problem_ = ImplicitStepProblem::build(model, in.pins, state);
-  h_ = problem_.h;
+  problem_ = ImplicitStepProblem::build(model, in.pins, state, settings.integrator);
+  h_ = problem_.implicit_h;
+  int factorizations = 0;
+  factor_cache_.ensure(in.revision, settings.linear_solver, h_, [&] {
+    factorizations = factorize(in, settings.linear_solver, h_);
+  });
   gravity_ = model.gravity;
   const int n = model.particleCount();
   const Points& y = problem_.inertial;
 
-  const Points constant = globalStepConstant(model, in.pins, dofs_, y);
+  const Points constant = globalStepConstant(model, in.pins, dofs_, h_, y);
   inertial_.assign(static_cast<std::size_t>(kNodeStride) * n, 0.0);
   rhs_constant_.assign(inertial_.size(), 0.0);
   for (int k = 0; k < n; ++k) {

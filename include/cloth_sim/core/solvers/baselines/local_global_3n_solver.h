@@ -25,7 +25,8 @@ class LocalGlobal3nSolver final : public Solver {
                    State& state) override;
 
  private:
-  void factorize(const SolverInput& input);
+  /// Factors M + h^2 L (x) I3, @p h the implicit step h_i (s).
+  void factorize(const SolverInput& input, double h);
 
   RevisionCache factor_cache_;
   FreeParticleMap dofs_;

@@ -49,14 +49,17 @@ class GlobalSystem {
 
 /// The global step's matrix M + h^2 L_scalar (+ h^2 k on soft-pinned particles) over the free
 /// particles of @p dofs, in free-index order. A spring to a hard-pinned particle keeps only its
-/// diagonal term; its coupling goes to the right-hand side (globalStepConstant).
+/// diagonal term; its coupling goes to the right-hand side (globalStepConstant). @p h is the
+/// implicit step h_i of ImplicitStepProblem (s): model.time_step for implicit Euler, 2/3 of it
+/// for BDF2.
 Eigen::SparseMatrix<double> globalStepMatrix(const Model& model, const PinSet& pins,
-                                             const FreeParticleMap& dofs);
+                                             const FreeParticleMap& dofs, double h);
 
 /// The part of the global step's right-hand side that is constant within a step, per particle
 /// (3 x N, N m): M y + h^2 (m g + k_pin t), plus h^2 k y_p on the free end of every spring whose
 /// other end p is hard-pinned. Rows of hard-pinned particles are meaningless.
 Points globalStepConstant(const Model& model, const PinSet& pins, const FreeParticleMap& dofs,
+                          double h,
                           const Points& inertial);
 
 }  // namespace cloth_sim

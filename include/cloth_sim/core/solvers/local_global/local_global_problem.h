@@ -50,7 +50,9 @@ double relativeChange(const NodeBuffer& next, const NodeBuffer& current, const N
 /// begin(), iterations, finishStep().
 class LocalGlobalProblem {
  public:
-  /// Refactors if the revision or the linear solver changed; builds y and the constant part of
+  /// Refactors if the revision, the linear solver or the implicit step h_i changed (BDF2's
+  /// first step is implicit Euler, h_i = h; the next ones have h_i = 2h/3); builds y and the
+  /// constant part of
   /// the right-hand side; starts the contacts (SolverInput::contacts) in node order. Returns
   /// the numeric factorizations done (0 or 1).
   int begin(const SolverInput& input, const SolverSettings& settings, const State& state);
@@ -90,8 +92,9 @@ class LocalGlobalProblem {
   const SpringTable& springTable() const { return springs_; }
 
  private:
-  /// Factors A, sets the node order and the node-ordered spring tables. Returns 0 or 1.
-  int factorize(const SolverInput& input, LinearSolver backend);
+  /// Factors A = M + h^2 L (@p h: the implicit step h_i, see ImplicitStepProblem), sets the
+  /// node order and the node-ordered spring tables. Returns 0 or 1.
+  int factorize(const SolverInput& input, LinearSolver backend, double h);
   double pinEnergy(const NodeBuffer& x) const;
   /// g(x) given the spring energy E(x) (J) of @p x: inertia, gravity, springs, soft pins.
   double objectiveWith(const NodeBuffer& x, double spring_energy) const;
@@ -116,7 +119,7 @@ class LocalGlobalProblem {
   SpringTable springs_;             ///< springs with at least one free end
   FreeParticleMap dofs_;
   SpringTable pinned_springs_;      ///< springs with two pinned ends: constant energy
-  double h_ = 0.0;
+  double h_ = 0.0;                  ///< s, the implicit step h_i of this step
   Vec3 gravity_ = Vec3::Zero();
 
   ImplicitStepProblem problem_;
