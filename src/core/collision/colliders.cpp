@@ -47,7 +47,7 @@ void checkSphere(const SphereCollider& s) {
 /// contact normal: friction acts on the particle's slide relative to that surface.
 template <typename SurfaceSlip>
 bool collideSphere(const Vec3& rel_start, Vec3& rel_end, double radius, double mu,
-                   SurfaceSlip&& surface_slip) {
+                   SurfaceSlip&& surface_slip, const std::optional<Vec3>& free_motion) {
   const double r2 = radius * radius;
   const Vec3 path = rel_end - rel_start;
   Vec3 corrected;
@@ -71,7 +71,8 @@ bool collideSphere(const Vec3& rel_start, Vec3& rel_end, double radius, double m
   corrected = radius * normal;  // on the surface
   const double normal_correction = (corrected - rel_end).norm();
   const Vec3 slip = surface_slip(normal);
-  const Vec3 moved = slip + applyFriction(corrected - rel_start - slip, normal, normal_correction, mu);
+  const Vec3 moved = slip + applyFriction(corrected - rel_start - slip, normal,
+                                          frictionLoad(normal_correction, normal, free_motion), mu);
   const Vec3 with_friction = rel_start + moved;
   const double with_len = with_friction.norm();
   rel_end = with_len > 1e-12 && with_len < radius ? Vec3(radius * with_friction / with_len)
@@ -205,7 +206,9 @@ int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& e
         return;
       }
       const auto slip = [&](const Vec3& n) { return Vec3(h * s.angular_velocity.cross(s.radius * n)); };
-      if (!collideSphere(start.col(i) - old_center, rel_end, s.radius, s.friction, slip)) return;
+      std::optional<Vec3> rel_motion = step.freeMotion(i);
+      if (rel_motion) *rel_motion -= s.center - old_center;
+      if (!collideSphere(start.col(i) - old_center, rel_end, s.radius, s.friction, slip, rel_motion)) return;
       const Vec3 correction = s.center + rel_end - end.col(i);
       if (s.isDynamic()) {
         // Share the correction by mass; the sphere takes the opposite impulse (applied below).
@@ -221,7 +224,7 @@ int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& e
     });
     for (const auto& mesh : colliders.meshes()) {
       Vec3 moved = end.col(i);
-      if (mesh->collide(start.col(i), moved)) {
+      if (mesh->collide(start.col(i), moved, step.freeMotion(i))) {
         end.col(i) = moved;
         hit = true;
       }
@@ -230,7 +233,8 @@ int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& e
       const double depth = ground.height - end(2, i);
       end(2, i) = ground.height;
       end.col(i) = start.col(i) +
-                   applyFriction(end.col(i) - start.col(i), Vec3::UnitZ(), depth, ground.friction);
+                   applyFriction(end.col(i) - start.col(i), Vec3::UnitZ(),
+                                 frictionLoad(depth, Vec3::UnitZ(), step.freeMotion(i)), ground.friction);
       end(2, i) = std::max(end(2, i), ground.height);
       hit = true;
     }

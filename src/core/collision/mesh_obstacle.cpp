@@ -70,7 +70,7 @@ bool MeshObstacle::clear(const Vec3& a, const Vec3& b) const {
   return !hit;
 }
 
-bool MeshObstacle::collide(const Vec3& start, Vec3& end) const {
+bool MeshObstacle::collide(const Vec3& start, Vec3& end, const std::optional<Vec3>& free_motion) const {
   bool changed = false;
   last_candidates_ = 0;
   const Vec3 wanted = end;
@@ -123,7 +123,7 @@ bool MeshObstacle::collide(const Vec3& start, Vec3& end) const {
       break;
     }
     const Vec3 pushed = end + correction * normal;
-    end = start + applyFriction(pushed - start, normal, correction, friction_);
+    end = start + applyFriction(pushed - start, normal, frictionLoad(correction, normal, free_motion), friction_);
     changed = true;
     // A straight path that only clipped an edge: when the slid particle reaches the wanted end
     // in a straight line without crossing or touching the mesh, it went round the edge (else a

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "cloth_sim/core/collision/mesh_obstacle.h"
@@ -86,6 +87,17 @@ struct CollisionStep {
   const Eigen::VectorXd& mass;       ///< per particle (kg)
   const std::vector<char>& movable;  ///< false for hard-pinned particles: never pushed
   const Points& start;               ///< positions at the start of the step (m)
+  /// Velocities at the start of the step (m/s), or null. With them (and gravity) friction
+  /// presses with the particle's own load only (frictionLoad); without, with the whole
+  /// normal correction.
+  const Points* velocities = nullptr;
+  Vec3 gravity = Vec3::Zero();       ///< m/s^2, with velocities
+  /// Displacement (m) particle @p i would make over the step without internal or contact
+  /// forces, h v + h^2 g; null without velocities.
+  std::optional<Vec3> freeMotion(Eigen::Index i) const {
+    if (velocities == nullptr) return std::nullopt;
+    return Vec3(h * velocities->col(i) + h * h * gravity);
+  }
 };
 
 /// Contact response after the solve (Liu et al. 2013, section 5: move penetrating particles out).
@@ -96,7 +108,9 @@ struct CollisionStep {
 /// surface where it entered; mesh obstacles keep it on the side it came from (MeshObstacle);
 /// one below the ground is lifted onto it. Coulomb friction cuts the tangential displacement
 /// relative to the collider (for a spinning sphere: relative to its moving surface) by mu times
-/// the normal correction (sticking when it is smaller). Each corrected particle gets the
+/// the normal correction (sticking when it is smaller), the normal correction counted only up to
+/// the particle's own load when CollisionStep::velocities is given (frictionLoad: a spring
+/// pulling a particle into a box's side face or round a ball must not glue it there). Each corrected particle gets the
 /// velocity (end - start) / h, so velocities stay consistent with the projected positions:
 /// against a still collider the normal speed into it becomes 0 and no energy is added.
 ///
