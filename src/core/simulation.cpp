@@ -68,7 +68,8 @@ StepReport Simulation::step() {
   const double h = model_.time_step;
 
   colliders_.advance(h, model_.gravity, velocityDecay(model_));
-  const CollisionStep collision{h, model_.mass, movable_, before.positions};
+  const CollisionStep collision{h, model_.mass, movable_, before.positions, &before.velocities,
+                                model_.gravity};
   if (!colliders_.empty()) contacts_.beginStep(collision, colliders_);
   const SolverInput input{model_, pins_, revision_, colliders_.empty() ? nullptr : &contacts_};
   const auto t_solve = Clock::now();
