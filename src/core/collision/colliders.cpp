@@ -193,6 +193,10 @@ int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& e
   const SphereCandidates candidates(spheres, h);
   for (Eigen::Index i = 0; i < end.cols(); ++i) {
     if (!movable[i]) continue;
+    // The solve already applied the ground's and the meshes' friction with their contact
+    // forces (ContactForces): what is left here is a small residual, corrected without any.
+    const std::optional<Vec3> still_motion =
+        in_solve_contacts ? std::optional<Vec3>(Vec3::Zero()) : step.freeMotion(i);
     bool hit = false;
     candidates.forEach(start.col(i), end.col(i), [&](std::size_t k) {
       const SphereCollider& s = spheres[k];
@@ -222,22 +226,26 @@ int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& e
       }
       hit = true;
     });
-    for (const auto& mesh : colliders.meshes()) {
-      Vec3 moved = end.col(i);
-      if (mesh->collide(start.col(i), moved, step.freeMotion(i))) {
-        end.col(i) = moved;
-        hit = true;
-      }
-    }
+    // The ground before the meshes: lifting a particle onto the ground must not put it into
+    // an obstacle standing there (a table leg); the mesh response keeps its start side.
     if (ground.enabled && end(2, i) < ground.height) {
       const double depth = ground.height - end(2, i);
       end(2, i) = ground.height;
       end.col(i) = start.col(i) +
                    applyFriction(end.col(i) - start.col(i), Vec3::UnitZ(),
-                                 frictionLoad(depth, Vec3::UnitZ(), step.freeMotion(i)), ground.friction);
+                                 frictionLoad(depth, Vec3::UnitZ(), still_motion), ground.friction);
       end(2, i) = std::max(end(2, i), ground.height);
       hit = true;
     }
+    for (const auto& mesh : colliders.meshes()) {
+      Vec3 moved = end.col(i);
+      if (mesh->collide(start.col(i), moved, still_motion)) {
+        end.col(i) = moved;
+        hit = true;
+      }
+    }
+    // A mesh standing on the ground may push a particle round its bottom edge below it.
+    if (ground.enabled) end(2, i) = std::max(end(2, i), ground.height);
     if (hit) {
       velocities.col(i) = (end.col(i) - start.col(i)) / h;
       ++corrected;

@@ -136,6 +136,26 @@ bool MeshObstacle::collide(const Vec3& start, Vec3& end, const std::optional<Vec
   return changed;
 }
 
+bool MeshObstacle::nearest(const Vec3& p, double reach, Vec3& point, Vec3& normal) const {
+  Eigen::AlignedBox3d box(p);
+  box.min().array() -= reach;
+  box.max().array() += reach;
+  double best = reach;
+  grid_.query(box, [&](int t) {
+    const Vec3 q = closestPointOnTriangle(p, mesh_.vertices.col(mesh_.triangles(0, t)),
+                                          mesh_.vertices.col(mesh_.triangles(1, t)),
+                                          mesh_.vertices.col(mesh_.triangles(2, t)));
+    const double d = (p - q).norm();
+    if (d < best) {
+      best = d;
+      point = q;
+    }
+  });
+  if (!(best < reach) || best < 1e-12) return false;
+  normal = (p - point) / best;
+  return true;
+}
+
 double MeshObstacle::distance(const Vec3& p) const {
   double best = std::numeric_limits<double>::infinity();
   for (int t = 0; t < mesh_.triangleCount(); ++t) {

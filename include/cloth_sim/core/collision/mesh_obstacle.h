@@ -30,6 +30,11 @@ class MeshObstacle {
   /// @p end changed.
   bool collide(const Vec3& start, Vec3& end, const std::optional<Vec3>& free_motion = std::nullopt) const;
 
+  /// The mesh point @p point nearest to @p p among the triangles within @p reach (m) of it, and
+  /// the unit direction @p normal from that point to @p p (a face normal, or radial round an
+  /// edge or corner). False if no triangle is that close or @p p lies on the mesh.
+  bool nearest(const Vec3& p, double reach, Vec3& point, Vec3& normal) const;
+
   /// Distance (m) from @p p to the nearest triangle (brute force: for tests and checks).
   double distance(const Vec3& p) const;
 
