@@ -195,7 +195,6 @@ int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& e
     if (!movable[i]) continue;
     // The solve already applied the ground's and the meshes' friction with their contact
     // forces (ContactForces): what is left here is a small residual, corrected without any.
-    // Spheres keep the projection's friction on their own load (a drape over a ball settles).
     const std::optional<Vec3> still_motion =
         in_solve_contacts ? std::optional<Vec3>(Vec3::Zero()) : step.freeMotion(i);
     bool hit = false;

@@ -158,7 +158,9 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
   const Points& start = start_;
   contacts_.clear();
   for (std::size_t k = 0; k < bodies_.size(); ++k) {
-    addCandidates(k, model, y);
+    // Kinematic spheres keep the post-solve projection (in the solve their contacts made a
+    // draped cloth jitter without settling).
+    if (bodies_[k].inv_mass > 0.0) addCandidates(k, model, y);
   }
   addStillCandidates(model, y);
   // Mass splitting: count the contacts sharing each vertex and each sphere.
@@ -172,14 +174,11 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
   for (Contact& c : contacts_) {
     c.start = Vec3::Zero();
     for (int j = 0; j < 3; ++j) c.start += c.weight[j] * start.col(c.vertex[j]);
-    if (c.body < 0 || bodies_[c.body].inv_mass == 0.0) {
+    if (c.body < 0) {
       // A still contact per particle: a sheet lying on a plane is pushed by all of them at
       // once, a mode the cloth's stiffness does not resist, so the point compliance (A^-1)_pp
       // would overshoot it many times over; 1/m_p bounds every mode (A >= M).
-      c.compliance = 0.0;
-      for (int j = 0; j < 3; ++j) {
-        if (c.weight[j] > 0.0) c.compliance += c.weight[j] * c.weight[j] * per_vertex[c.vertex[j]] / model.mass[c.vertex[j]];
-      }
+      c.compliance = per_vertex[c.vertex[0]] / model.mass[c.vertex[0]];
     } else {
       c.compliance = per_body[c.body] * bodies_[c.body].inv_mass;
       for (int j = 0; j < 3; ++j) {
