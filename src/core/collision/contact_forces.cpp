@@ -158,8 +158,8 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
   const Points& start = start_;
   contacts_.clear();
   for (std::size_t k = 0; k < bodies_.size(); ++k) {
-    // Kinematic spheres keep the post-solve projection (in the solve their contacts made a
-    // draped cloth jitter without settling).
+    // Kinematic spheres keep the post-solve projection (in the solve a soft cloth sagged past
+    // 100 % strain on one in the stability sweep).
     if (bodies_[k].inv_mass > 0.0) addCandidates(k, model, y);
   }
   addStillCandidates(model, y);

@@ -21,10 +21,10 @@ namespace cloth_sim {
 /// of the step (a face normal, or radial round an edge), with the same projected Jacobi update
 /// and no reaction. Why: the solve then moves a particle pulled into a wall along the wall (a
 /// spring hooked round a box's top edge shortens by lifting its side end) instead of into it,
-/// where the post-solve projection only cancelled the move, step after step. Still colliders
-/// and kinematic spheres (inv_mass 0) use the compliance sum_j w_j^2 / m_j (see begin()): a
-/// sheet lying on them is pushed by all its contacts at once, a mode the cloth does not resist.
-/// Spheres (a kinematic one takes no reaction):
+/// where the post-solve projection only cancelled the move, step after step. Still contacts
+/// use the compliance 1/m_p (see begin()): a sheet lying on a plane is pushed by all its
+/// contacts at once, a mode the cloth does not resist. Kinematic spheres keep the post-solve
+/// projection only. Dynamic spheres:
 ///
 ///   M (x - y) + h^2 grad E(x) = h^2 sum_k lambda_k J_k^T n_k,   (cloth)
 ///   M_s (c - y_s)             = -h^2 sum_k lambda_k n_k,        (each dynamic sphere)
