@@ -112,9 +112,9 @@ StepReport Simulation::step() {
 
 void Simulation::substep(const PinSet& pins, StepReport& report) {
   const double h = model_.time_step;
-  const Points start = state_.positions;
+  const Points start = state_.positions, start_velocities = state_.velocities;
   colliders_.advance(h, model_.gravity, velocityDecay(model_));
-  const CollisionStep collision{h, model_.mass, movable_, start};
+  const CollisionStep collision{h, model_.mass, movable_, start, &start_velocities, model_.gravity};
   if (!colliders_.empty()) contacts_.beginStep(collision, colliders_);
   const SolverInput input{model_, pins, revision_, colliders_.empty() ? nullptr : &contacts_};
   const auto t_solve = std::chrono::steady_clock::now();

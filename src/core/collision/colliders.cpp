@@ -47,7 +47,7 @@ void checkSphere(const SphereCollider& s) {
 /// contact normal: friction acts on the particle's slide relative to that surface.
 template <typename SurfaceSlip>
 bool collideSphere(const Vec3& rel_start, Vec3& rel_end, double radius, double mu,
-                   SurfaceSlip&& surface_slip) {
+                   SurfaceSlip&& surface_slip, const std::optional<Vec3>& free_motion) {
   const double r2 = radius * radius;
   const Vec3 path = rel_end - rel_start;
   Vec3 corrected;
@@ -71,7 +71,8 @@ bool collideSphere(const Vec3& rel_start, Vec3& rel_end, double radius, double m
   corrected = radius * normal;  // on the surface
   const double normal_correction = (corrected - rel_end).norm();
   const Vec3 slip = surface_slip(normal);
-  const Vec3 moved = slip + applyFriction(corrected - rel_start - slip, normal, normal_correction, mu);
+  const Vec3 moved = slip + applyFriction(corrected - rel_start - slip, normal,
+                                          frictionLoad(normal_correction, normal, free_motion), mu);
   const Vec3 with_friction = rel_start + moved;
   const double with_len = with_friction.norm();
   rel_end = with_len > 1e-12 && with_len < radius ? Vec3(radius * with_friction / with_len)
@@ -192,6 +193,10 @@ int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& e
   const SphereCandidates candidates(spheres, h);
   for (Eigen::Index i = 0; i < end.cols(); ++i) {
     if (!movable[i]) continue;
+    // The solve already applied the ground's and the meshes' friction with their contact
+    // forces (ContactForces): what is left here is a small residual, corrected without any.
+    const std::optional<Vec3> still_motion =
+        in_solve_contacts ? std::optional<Vec3>(Vec3::Zero()) : step.freeMotion(i);
     bool hit = false;
     candidates.forEach(start.col(i), end.col(i), [&](std::size_t k) {
       const SphereCollider& s = spheres[k];
@@ -205,7 +210,9 @@ int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& e
         return;
       }
       const auto slip = [&](const Vec3& n) { return Vec3(h * s.angular_velocity.cross(s.radius * n)); };
-      if (!collideSphere(start.col(i) - old_center, rel_end, s.radius, s.friction, slip)) return;
+      std::optional<Vec3> rel_motion = step.freeMotion(i);
+      if (rel_motion) *rel_motion -= s.center - old_center;
+      if (!collideSphere(start.col(i) - old_center, rel_end, s.radius, s.friction, slip, rel_motion)) return;
       const Vec3 correction = s.center + rel_end - end.col(i);
       if (s.isDynamic()) {
         // Share the correction by mass; the sphere takes the opposite impulse (applied below).
@@ -219,21 +226,26 @@ int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& e
       }
       hit = true;
     });
-    for (const auto& mesh : colliders.meshes()) {
-      Vec3 moved = end.col(i);
-      if (mesh->collide(start.col(i), moved)) {
-        end.col(i) = moved;
-        hit = true;
-      }
-    }
+    // The ground before the meshes: lifting a particle onto the ground must not put it into
+    // an obstacle standing there (a table leg); the mesh response keeps its start side.
     if (ground.enabled && end(2, i) < ground.height) {
       const double depth = ground.height - end(2, i);
       end(2, i) = ground.height;
       end.col(i) = start.col(i) +
-                   applyFriction(end.col(i) - start.col(i), Vec3::UnitZ(), depth, ground.friction);
+                   applyFriction(end.col(i) - start.col(i), Vec3::UnitZ(),
+                                 frictionLoad(depth, Vec3::UnitZ(), still_motion), ground.friction);
       end(2, i) = std::max(end(2, i), ground.height);
       hit = true;
     }
+    for (const auto& mesh : colliders.meshes()) {
+      Vec3 moved = end.col(i);
+      if (mesh->collide(start.col(i), moved, still_motion)) {
+        end.col(i) = moved;
+        hit = true;
+      }
+    }
+    // A mesh standing on the ground may push a particle round its bottom edge below it.
+    if (ground.enabled) end(2, i) = std::max(end(2, i), ground.height);
     if (hit) {
       velocities.col(i) = (end.col(i) - start.col(i)) / h;
       ++corrected;

@@ -94,6 +94,7 @@ void ContactForces::addCandidates(std::size_t k, const Model& model, const Point
       return;
     }
     c.triangle = count == 3;
+    c.source = body.id;
     contacts_.push_back(c);
   };
   if (model.triangles.cols() > 0) {
@@ -105,12 +106,45 @@ void ContactForces::addCandidates(std::size_t k, const Model& model, const Point
   }
 }
 
+void ContactForces::addStillCandidates(const Model& model, const Points& y) {
+  // Reach beyond the step's free motion: about a quarter spacing, what the springs move a
+  // particle within one step at most in a resting drape.
+  double spacing = 0.0;
+  for (std::size_t k = 0; k < model.springs.size(); ++k) spacing += model.springs.rest_length[k];
+  const double margin = model.springs.size() > 0 ? 0.25 * spacing / model.springs.size() : 0.0;
+  for (Eigen::Index p = 0; p < y.cols(); ++p) {
+    if (!movable_[p]) continue;
+    const Vec3 start = start_.col(p);
+    const double reach = (Vec3(y.col(p)) - start).norm() + margin;
+    auto add = [&](const Vec3& normal, const Vec3& anchor, int source, double mu) {
+      Contact c{{static_cast<int>(p), static_cast<int>(p), static_cast<int>(p)}, {1.0, 0.0, 0.0}, -1,
+                normal, 0.0, 0.0};
+      c.anchor = anchor;
+      c.source = source;
+      c.mu = mu;
+      contacts_.push_back(c);
+    };
+    if (ground_.enabled && start.z() < ground_.height + reach) {
+      add(Vec3::UnitZ(), Vec3(start.x(), start.y(), ground_.height), stillSource(-1), ground_.friction);
+    }
+    for (std::size_t m = 0; m < meshes_.size(); ++m) {
+      Vec3 point, normal;
+      if (meshes_[m]->nearest(start, reach + meshes_[m]->thickness(), point, normal)) {
+        add(normal, point + meshes_[m]->thickness() * normal, stillSource(static_cast<int>(m)),
+            meshes_[m]->friction());
+      }
+    }
+  }
+}
+
 void ContactForces::beginStep(const CollisionStep& step, const Colliders& colliders) {
   h_ = step.h;
   movable_ = step.movable;
   start_ = step.start;
   contacts_.clear();
   bodies_.clear();
+  ground_ = colliders.ground();
+  meshes_ = colliders.meshes();
   for (const SphereCollider& s : colliders.spheres()) {
     // Colliders::advance already moved each sphere to its free end-of-step position.
     bodies_.push_back(Body{s.id, s.radius, s.isDynamic() ? 1.0 / s.mass : 0.0, s.center,
@@ -124,13 +158,15 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
   const Points& start = start_;
   contacts_.clear();
   for (std::size_t k = 0; k < bodies_.size(); ++k) {
-    // Still colliders keep the post-solve projection, which suffices without a reaction.
+    // Kinematic spheres keep the post-solve projection (in the solve a soft cloth sagged past
+    // 100 % strain on one in the stability sweep).
     if (bodies_[k].inv_mass > 0.0) addCandidates(k, model, y);
   }
+  addStillCandidates(model, y);
   // Mass splitting: count the contacts sharing each vertex and each sphere.
   std::vector<int> per_vertex(y.cols(), 0), per_body(bodies_.size(), 0);
   for (const Contact& c : contacts_) {
-    ++per_body[c.body];
+    if (c.body >= 0) ++per_body[c.body];
     for (int j = 0; j < 3; ++j) {
       if (c.weight[j] > 0.0) ++per_vertex[c.vertex[j]];
     }
@@ -138,10 +174,17 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
   for (Contact& c : contacts_) {
     c.start = Vec3::Zero();
     for (int j = 0; j < 3; ++j) c.start += c.weight[j] * start.col(c.vertex[j]);
-    c.compliance = per_body[c.body] * bodies_[c.body].inv_mass;
-    for (int j = 0; j < 3; ++j) {
-      if (c.weight[j] > 0.0) {
-        c.compliance += c.weight[j] * c.weight[j] * per_vertex[c.vertex[j]] * compliance[c.vertex[j]];
+    if (c.body < 0) {
+      // A still contact per particle: a sheet lying on a plane is pushed by all of them at
+      // once, a mode the cloth's stiffness does not resist, so the point compliance (A^-1)_pp
+      // would overshoot it many times over; 1/m_p bounds every mode (A >= M).
+      c.compliance = per_vertex[c.vertex[0]] / model.mass[c.vertex[0]];
+    } else {
+      c.compliance = per_body[c.body] * bodies_[c.body].inv_mass;
+      for (int j = 0; j < 3; ++j) {
+        if (c.weight[j] > 0.0) {
+          c.compliance += c.weight[j] * c.weight[j] * per_vertex[c.vertex[j]] * compliance[c.vertex[j]];
+        }
       }
     }
     // Warm start from last step's force on each touched vertex, shared among this step's
@@ -149,7 +192,7 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
     c.lambda = 0.0;
     for (int j = 0; j < 3; ++j) {
       if (c.weight[j] <= 0.0) continue;
-      const auto it = vertex_force_.find({bodies_[c.body].id, c.vertex[j]});
+      const auto it = vertex_force_.find({c.source, c.vertex[j]});
       if (it != vertex_force_.end()) c.lambda += c.weight[j] * it->second / per_vertex[c.vertex[j]];
     }
   }
@@ -174,6 +217,7 @@ void ContactForces::indexVertices(const std::vector<int>& particle_node) {
 void ContactForces::placeBodies() {
   for (Body& b : bodies_) b.center = b.predicted;
   for (const Contact& c : contacts_) {
+    if (c.body < 0) continue;
     Body& b = bodies_[c.body];
     b.center -= (h_ * h_ * b.inv_mass) * (c.lambda * c.normal + c.friction);
   }
@@ -184,6 +228,7 @@ double ContactForces::gap(const Contact& c, const NodeBuffer& x) const {
   for (int j = 0; j < 3; ++j) {
     if (c.weight[j] > 0.0) point += c.weight[j] * nodeAt(x, c.offset[j]);
   }
+  if (c.body < 0) return (point - c.anchor).dot(c.normal);
   const Body& b = bodies_[c.body];
   // Along the contact's normal: the sphere linearised at the last iterate (relinearize).
   return (point - b.center).dot(c.normal) - b.radius;
@@ -192,7 +237,7 @@ double ContactForces::gap(const Contact& c, const NodeBuffer& x) const {
 void ContactForces::relinearize(Contact& c, const NodeBuffer& x) const {
   // Re-linearise a resting/rolling contact at the current iterate: the triangle's closest point
   // and the radial normal. Sweep contacts keep their entry normal for the whole step.
-  if (c.sweep) return;
+  if (c.sweep || c.body < 0) return;
   const Body& b = bodies_[c.body];
   if (c.triangle) {
     const Vec3 a = nodeAt(x, c.offset[0]), b1 = nodeAt(x, c.offset[1]), b2 = nodeAt(x, c.offset[2]);
@@ -209,20 +254,23 @@ void ContactForces::update(const NodeBuffer& x) {
   for (Contact& c : contacts_) relinearize(c, x);
   for (Contact& c : contacts_) {
     c.lambda = std::max(0.0, c.lambda - kRelaxation * gap(c, x) / (h2 * c.compliance));
-    const Body& b = bodies_[c.body];
-    if (b.friction <= 0.0) continue;
-    // Slip of the contact point over the step, relative to the sphere's surface point.
+    const double mu = c.body < 0 ? c.mu : bodies_[c.body].friction;
+    if (mu <= 0.0) continue;
+    // Slip of the contact point over the step, relative to the collider's surface point.
     Vec3 point = Vec3::Zero();
     for (int j = 0; j < 3; ++j) point += c.weight[j] * nodeAt(x, c.offset[j]);
-    const Vec3 slip = (point - c.start) - (b.center - b.old) -
-                      h_ * b.spin.cross(b.radius * c.normal);
+    Vec3 slip = point - c.start;
+    double compliance = c.compliance;
+    if (c.body >= 0) {
+      const Body& b = bodies_[c.body];
+      slip -= (b.center - b.old) + h_ * b.spin.cross(b.radius * c.normal);
+      // The spin's response adds r^2 / I (r = radius) to the tangential compliance.
+      compliance += b.radius * b.radius * b.inv_inertia;
+    }
     const Vec3 tangential = slip - slip.dot(c.normal) * c.normal;
-    // The spin's response adds r^2 / I (r = radius) to the tangential compliance.
-    const double compliance =
-        c.compliance + b.radius * b.radius * b.inv_inertia;
     c.friction -= kRelaxation * tangential / (h2 * compliance);
     c.friction -= c.friction.dot(c.normal) * c.normal;
-    const double cap = b.friction * c.lambda, size = c.friction.norm();
+    const double cap = mu * c.lambda, size = c.friction.norm();
     if (size > cap) c.friction *= cap / size;
   }
   placeBodies();
@@ -247,6 +295,7 @@ void ContactForces::finish(Colliders& colliders) {
   std::vector<SphereCollider>& spheres = colliders.mutableSpheres();
   std::vector<Vec3> torque(bodies_.size(), Vec3::Zero());
   for (const Contact& c : contacts_) {
+    if (c.body < 0) continue;
     // The cloth pushes the sphere with -(lambda n + friction) at r n from its centre.
     torque[c.body] += (bodies_[c.body].radius * c.normal).cross(-c.friction);
   }
@@ -261,7 +310,7 @@ void ContactForces::finish(Colliders& colliders) {
   for (const Contact& c : contacts_) {
     if (c.lambda <= 0.0) continue;
     for (int j = 0; j < 3; ++j) {
-      if (c.weight[j] > 0.0) vertex_force_[{bodies_[c.body].id, c.vertex[j]}] += c.lambda * c.weight[j];
+      if (c.weight[j] > 0.0) vertex_force_[{c.source, c.vertex[j]}] += c.lambda * c.weight[j];
     }
   }
 }

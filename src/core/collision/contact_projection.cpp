@@ -1,5 +1,6 @@
 #include "cloth_sim/core/collision/contact_projection.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace cloth_sim {
@@ -12,6 +13,11 @@ Vec3 applyFriction(const Vec3& displacement, const Vec3& normal, double normal_c
   const double cut = mu * normal_correction;
   if (slide <= cut) return displacement - tangential;
   return displacement - (cut / slide) * tangential;
+}
+
+double frictionLoad(double correction, const Vec3& normal, const std::optional<Vec3>& free_motion) {
+  if (!free_motion) return correction;
+  return std::min(correction, std::max(0.0, -free_motion->dot(normal)));
 }
 
 Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {

@@ -70,7 +70,7 @@ bool MeshObstacle::clear(const Vec3& a, const Vec3& b) const {
   return !hit;
 }
 
-bool MeshObstacle::collide(const Vec3& start, Vec3& end) const {
+bool MeshObstacle::collide(const Vec3& start, Vec3& end, const std::optional<Vec3>& free_motion) const {
   bool changed = false;
   last_candidates_ = 0;
   const Vec3 wanted = end;
@@ -123,7 +123,7 @@ bool MeshObstacle::collide(const Vec3& start, Vec3& end) const {
       break;
     }
     const Vec3 pushed = end + correction * normal;
-    end = start + applyFriction(pushed - start, normal, correction, friction_);
+    end = start + applyFriction(pushed - start, normal, frictionLoad(correction, normal, free_motion), friction_);
     changed = true;
     // A straight path that only clipped an edge: when the slid particle reaches the wanted end
     // in a straight line without crossing or touching the mesh, it went round the edge (else a
@@ -134,6 +134,26 @@ bool MeshObstacle::collide(const Vec3& start, Vec3& end) const {
     }
   }
   return changed;
+}
+
+bool MeshObstacle::nearest(const Vec3& p, double reach, Vec3& point, Vec3& normal) const {
+  Eigen::AlignedBox3d box(p);
+  box.min().array() -= reach;
+  box.max().array() += reach;
+  double best = reach;
+  grid_.query(box, [&](int t) {
+    const Vec3 q = closestPointOnTriangle(p, mesh_.vertices.col(mesh_.triangles(0, t)),
+                                          mesh_.vertices.col(mesh_.triangles(1, t)),
+                                          mesh_.vertices.col(mesh_.triangles(2, t)));
+    const double d = (p - q).norm();
+    if (d < best) {
+      best = d;
+      point = q;
+    }
+  });
+  if (!(best < reach) || best < 1e-12) return false;
+  normal = (p - point) / best;
+  return true;
 }
 
 double MeshObstacle::distance(const Vec3& p) const {

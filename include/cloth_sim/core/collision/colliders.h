@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "cloth_sim/core/collision/mesh_obstacle.h"
@@ -86,6 +87,17 @@ struct CollisionStep {
   const Eigen::VectorXd& mass;       ///< per particle (kg)
   const std::vector<char>& movable;  ///< false for hard-pinned particles: never pushed
   const Points& start;               ///< positions at the start of the step (m)
+  /// Velocities at the start of the step (m/s), or null. With them (and gravity) friction
+  /// presses with the particle's own load only (frictionLoad); without, with the whole
+  /// normal correction.
+  const Points* velocities = nullptr;
+  Vec3 gravity = Vec3::Zero();       ///< m/s^2, with velocities
+  /// Displacement (m) particle @p i would make over the step without internal or contact
+  /// forces, h v + h^2 g; null without velocities.
+  std::optional<Vec3> freeMotion(Eigen::Index i) const {
+    if (velocities == nullptr) return std::nullopt;
+    return Vec3(h * velocities->col(i) + h * h * gravity);
+  }
 };
 
 /// Contact response after the solve (Liu et al. 2013, section 5: move penetrating particles out).
@@ -94,9 +106,14 @@ struct CollisionStep {
 /// path relative to the sphere (from start - old centre to end - new centre), so a fast sphere
 /// cannot pass through a particle within one step; a particle that entered is put back on the
 /// surface where it entered; mesh obstacles keep it on the side it came from (MeshObstacle);
-/// one below the ground is lifted onto it. Coulomb friction cuts the tangential displacement
+/// one below the ground is lifted onto it (the ground before the meshes, and a particle is
+/// clamped to the ground after them). Coulomb friction cuts the tangential displacement
 /// relative to the collider (for a spinning sphere: relative to its moving surface) by mu times
-/// the normal correction (sticking when it is smaller). Each corrected particle gets the
+/// the normal correction (sticking when it is smaller), the normal correction counted only up
+/// to the particle's own load when CollisionStep::velocities is given (frictionLoad: a spring
+/// pulling a particle into a box's side face or round a ball must not glue it there); with
+/// @p in_solve_contacts the ground and the meshes correct without friction (the solve applied
+/// it with the contact forces). Each corrected particle gets the
 /// velocity (end - start) / h, so velocities stay consistent with the projected positions:
 /// against a still collider the normal speed into it becomes 0 and no energy is added.
 ///
@@ -106,9 +123,9 @@ struct CollisionStep {
 /// exactly. Sphere reactions are summed over all particles and applied at the end.
 ///
 /// Spheres are at their end-of-step centres (Colliders::advance done); the start centre is
-/// center - velocity * h. With @p in_solve_contacts the solver already solved the dynamic
-/// spheres' contacts (ContactForces): a particle overlapping such a sphere by less than 5 % of
-/// its radius is then left alone. Returns the number of corrected particles.
+/// center - velocity * h. With @p in_solve_contacts the solver already solved the contacts
+/// (ContactForces): a particle overlapping a dynamic sphere by less than 5 % of its radius is
+/// then left alone. Returns the number of corrected particles.
 int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& end,
                       Points& velocities, bool in_solve_contacts = false);
 

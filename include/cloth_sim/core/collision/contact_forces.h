@@ -4,6 +4,7 @@
 
 #include <array>
 #include <map>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -13,8 +14,17 @@
 
 namespace cloth_sim {
 
-/// Normal contact forces between the cloth surface and dynamic spheres, as unknowns of the
-/// implicit Euler step next to the positions:
+/// Normal contact forces between the cloth and the colliders, as unknowns of the implicit
+/// Euler step next to the positions. The still colliders (ground, mesh obstacles) get one
+/// contact per particle near them: the half-space n . (x_p - a) >= 0 of the collider's nearest
+/// point a (offset by the mesh's thickness) and direction n from it to the particle at the start
+/// of the step (a face normal, or radial round an edge), with the same projected Jacobi update
+/// and no reaction. Why: the solve then moves a particle pulled into a wall along the wall (a
+/// spring hooked round a box's top edge shortens by lifting its side end) instead of into it,
+/// where the post-solve projection only cancelled the move, step after step. Still contacts
+/// use the compliance 1/m_p (see begin()): a sheet lying on a plane is pushed by all its
+/// contacts at once, a mode the cloth does not resist. Kinematic spheres keep the post-solve
+/// projection only. Dynamic spheres:
 ///
 ///   M (x - y) + h^2 grad E(x) = h^2 sum_k lambda_k J_k^T n_k,   (cloth)
 ///   M_s (c - y_s)             = -h^2 sum_k lambda_k n_k,        (each dynamic sphere)
@@ -68,8 +78,8 @@ class ContactForces {
   struct Contact {
     std::array<int, 3> vertex;     ///< touched vertices (unused slots: weight 0)
     std::array<double, 3> weight;  ///< barycentric weights of the contact point
-    int body;                      ///< index into bodies_
-    Vec3 normal;                   ///< unit, from the sphere to the point
+    int body;                      ///< index into bodies_; -1: a still half-space (anchor)
+    Vec3 normal;                   ///< unit, from the collider to the point
     double lambda;                 ///< N, >= 0
     double compliance;             ///< 1/kg
     Vec3 friction = Vec3::Zero();  ///< N, tangential, |friction| <= mu lambda
@@ -78,6 +88,9 @@ class ContactForces {
     bool sweep = false;            ///< the sphere swept over the point: entry normal kept
     std::array<int, 3> offset{};   ///< the vertices' first double in the node buffers
     std::array<int, 3> slot{};     ///< the vertices' index in touched_
+    Vec3 anchor = Vec3::Zero();    ///< still contact: a point of its plane (m)
+    double mu = 0.0;               ///< still contact: the collider's Coulomb coefficient
+    int source = 0;                ///< warm-start key: a sphere's id, or stillSource()
   };
   struct Body {
     int id;
@@ -90,7 +103,12 @@ class ContactForces {
     double inv_inertia;
     double friction; ///< Coulomb mu of the sphere
   };
+  /// Warm-start key of a still collider (-1: the ground, m >= 0: mesh obstacle m), below
+  /// every sphere id (>= 0).
+  static int stillSource(int collider) { return -2 - collider; }
   void addCandidates(std::size_t body, const Model& model, const Points& y);
+  /// Vertex contacts with the ground and the mesh obstacles (still half-spaces, no reaction).
+  void addStillCandidates(const Model& model, const Points& y);
   /// Signed distance (m) of the contact point beyond the contact's half-space.
   double gap(const Contact& c, const NodeBuffer& x) const;
   void placeBodies();
@@ -99,6 +117,8 @@ class ContactForces {
   void indexVertices(const std::vector<int>& particle_node);
 
   double h_ = 0.0;
+  GroundPlane ground_;                                      ///< this step's ground
+  std::vector<std::shared_ptr<const MeshObstacle>> meshes_; ///< this step's mesh obstacles
   std::vector<char> movable_;  ///< this step's movable mask (CollisionStep::movable)
   Points start_;               ///< this step's start positions (CollisionStep::start)
   std::vector<Contact> contacts_;
@@ -107,7 +127,7 @@ class ContactForces {
   /// addForces: each vertex's forces are summed before they reach the right-hand side).
   std::vector<int> touched_;
   mutable std::vector<Vec3> touched_force_;
-  std::map<std::pair<int, int>, double> vertex_force_;  ///< (sphere id, vertex) -> N
+  std::map<std::pair<int, int>, double> vertex_force_;  ///< (Contact::source, vertex) -> N
 };
 
 }  // namespace cloth_sim

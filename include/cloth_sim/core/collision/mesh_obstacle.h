@@ -2,6 +2,7 @@
 /// A static triangle-mesh obstacle (a table, a mannequin) for cloth particles.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,8 +25,15 @@ class MeshObstacle {
   /// Response for one particle that moved from @p start to @p end (m) during a step:
   /// if its path crossed a triangle, or it ended closer than thickness to one, @p end is put
   /// back on the start side at distance thickness, keeping the tangential part of the motion
-  /// minus Coulomb friction. Returns true if @p end changed.
-  bool collide(const Vec3& start, Vec3& end) const;
+  /// minus Coulomb friction. Friction presses with frictionLoad(correction, normal,
+  /// @p free_motion) (the particle's free motion h v + h^2 g, when known). Returns true if
+  /// @p end changed.
+  bool collide(const Vec3& start, Vec3& end, const std::optional<Vec3>& free_motion = std::nullopt) const;
+
+  /// The mesh point @p point nearest to @p p among the triangles within @p reach (m) of it, and
+  /// the unit direction @p normal from that point to @p p (a face normal, or radial round an
+  /// edge or corner). False if no triangle is that close or @p p lies on the mesh.
+  bool nearest(const Vec3& p, double reach, Vec3& point, Vec3& normal) const;
 
   /// Distance (m) from @p p to the nearest triangle (brute force: for tests and checks).
   double distance(const Vec3& p) const;
