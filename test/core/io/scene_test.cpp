@@ -80,6 +80,8 @@ TEST(Scene, MinimalSceneHasDocumentedDefaults) {
   EXPECT_FALSE(s.grid.material.has_shear);
   EXPECT_FALSE(s.grid.material.has_bending);
   EXPECT_EQ(s.options.solver, "local_global");
+  EXPECT_EQ(s.options.settings.substeps, 8);
+  EXPECT_EQ(s.options.settings.max_iterations, 2);
   EXPECT_EQ(s.gravity, Vec3(0, 0, -9.81));
   EXPECT_EQ(s.damping, 0.0);
   EXPECT_TRUE(s.pins.empty());
