@@ -68,7 +68,7 @@ TEST(Integration, MarkersAndStateArriveAtTheirRatesWithTheWholeCloth) {
   const std::vector<ClothState> states = p.collectStates(window);
   const double marker_rate = (p.markerCount() - markers_before) / window;
   const double state_rate = states.size() / window;
-  const double step_rate = 1.0 / scene().sim.model().time_step;
+  const double step_rate = 1.0 / scene().sim.frameTime();
   RecordProperty("marker_rate_hz", std::to_string(marker_rate));
   RecordProperty("state_rate_hz", std::to_string(state_rate));
   std::printf("[measured] cloth/markers %.2f Hz (configured %.0f), cloth/state %.2f Hz "

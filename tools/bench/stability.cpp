@@ -52,6 +52,7 @@ SceneConfig stabilityScene(Scenario scenario, int grid, double stiffness, double
     c.options.settings.integrator = integratorFromName(solver.substr(slash + 1));
   }
   c.options.settings.max_iterations = iterations;
+  c.options.settings.substeps = 1;  // each cell's time step is the implicit step
   for (int col = 0; col < grid; ++col) c.pins.push_back(PinSelector::atVertex(gridVertex(0, col, grid)));
   return c;
 }

@@ -44,7 +44,11 @@ MeshObstacle::MeshObstacle(TriangleMesh mesh, double thickness, double friction,
   }
   grid_ = SpatialHash(cell_size > 0.0 ? cell_size
                                       : std::max(meanEdgeLength(mesh_), 2.0 * thickness_));
-  for (int t = 0; t < mesh_.triangleCount(); ++t) grid_.insert(t, triangleBox(t));
+  boxes_.reserve(mesh_.triangleCount());
+  for (int t = 0; t < mesh_.triangleCount(); ++t) {
+    boxes_.push_back(triangleBox(t));
+    grid_.insert(t, boxes_.back());
+  }
 }
 
 Eigen::AlignedBox3d MeshObstacle::triangleBox(int t) const {
@@ -60,7 +64,7 @@ bool MeshObstacle::clear(const Vec3& a, const Vec3& b) const {
   box.max().array() += thickness_;
   bool hit = false;
   grid_.query(box, [&](int t) {
-    if (hit) return;
+    if (hit || !boxes_[t].intersects(box)) return;
     const Vec3 p = mesh_.vertices.col(mesh_.triangles(0, t));
     const Vec3 q = mesh_.vertices.col(mesh_.triangles(1, t));
     const Vec3 r = mesh_.vertices.col(mesh_.triangles(2, t));
@@ -87,6 +91,7 @@ bool MeshObstacle::collide(const Vec3& start, Vec3& end, const std::optional<Vec
     Vec3 nearest_point = Vec3::Zero();
     grid_.query(box, [&](int t) {
       ++last_candidates_;
+      if (!boxes_[t].intersects(box)) return;  // a large triangle's cell, not the triangle
       const Vec3 a = mesh_.vertices.col(mesh_.triangles(0, t));
       const Vec3 b = mesh_.vertices.col(mesh_.triangles(1, t));
       const Vec3 c = mesh_.vertices.col(mesh_.triangles(2, t));
@@ -142,6 +147,7 @@ bool MeshObstacle::nearest(const Vec3& p, double reach, Vec3& point, Vec3& norma
   box.max().array() += reach;
   double best = reach;
   grid_.query(box, [&](int t) {
+    if (!boxes_[t].intersects(box)) return;
     const Vec3 q = closestPointOnTriangle(p, mesh_.vertices.col(mesh_.triangles(0, t)),
                                           mesh_.vertices.col(mesh_.triangles(1, t)),
                                           mesh_.vertices.col(mesh_.triangles(2, t)));
