@@ -1,4 +1,5 @@
 #include "cloth_sim/core/simulation.h"
+#include "cloth_sim/core/settings/settings_table.h"
 
 #include <chrono>
 #include <utility>
@@ -24,8 +25,9 @@ const char* stepStatusName(StepStatus status) {
 void SimulationOptions::validate() const {
   settings.validate();
   requireIntegrator(*makeSolver(solver), settings.integrator);  // makeSolver lists the names
-  if (!std::isfinite(divergence_strain) || divergence_strain <= 0.0) {
-    throw std::invalid_argument("divergence_strain must be finite and > 0");
+  if (!settings::kDivergenceStrain.range.contains(divergence_strain)) {
+    throw std::invalid_argument("divergence_strain must be finite and " +
+                                settings::kDivergenceStrain.requirement());
   }
 }
 
@@ -235,7 +237,10 @@ void Simulation::moveSphere(int id, const Vec3& center, const Vec3& velocity) {
 void Simulation::setGround(const GroundPlane& ground) { colliders_.setGround(ground); }
 
 void Simulation::setFamilyStiffness(SpringFamily family, double stiffness) {
-  if (!std::isfinite(stiffness) || stiffness < 0.0) {
+  const Setting& rule = family == SpringFamily::kStructural ? settings::kStructuralStiffness
+                        : family == SpringFamily::kShear    ? settings::kShearStiffness
+                                                            : settings::kBendingStiffness;
+  if (!rule.range.contains(stiffness)) {
     throw std::invalid_argument(std::string(springFamilyName(family)) + " stiffness " +
                                 std::to_string(stiffness) + " N/m must be finite and >= 0");
   }
@@ -249,7 +254,7 @@ void Simulation::setFamilyStiffness(SpringFamily family, double stiffness) {
 }
 
 void Simulation::setDamping(double damping) {
-  if (!std::isfinite(damping) || damping < 0.0) {
+  if (!settings::kDamping.range.contains(damping)) {
     throw std::invalid_argument("damping " + std::to_string(damping) +
                                 " 1/s must be finite and >= 0");
   }
@@ -257,8 +262,9 @@ void Simulation::setDamping(double damping) {
 }
 
 void Simulation::setTimeStep(double h) {
-  if (!std::isfinite(h) || h <= 0.0) {
-    throw std::invalid_argument("time step " + std::to_string(h) + " s must be finite and > 0");
+  if (!settings::kTimeStep.range.contains(h)) {
+    throw std::invalid_argument("time step " + std::to_string(h) + " s must be finite and " +
+                                settings::kTimeStep.requirement());
   }
   if (h == frame_time_) return;
   frame_time_ = h;

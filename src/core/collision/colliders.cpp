@@ -1,4 +1,5 @@
 #include "cloth_sim/core/collision/colliders.h"
+#include "cloth_sim/core/settings/settings_table.h"
 
 #include <algorithm>
 #include <cmath>
@@ -22,19 +23,20 @@ void checkSphere(const SphereCollider& s) {
   if (!s.angular_velocity.allFinite()) {
     throw std::invalid_argument("sphere angular velocity must be finite");
   }
-  if (!std::isfinite(s.radius) || s.radius <= 0.0) {
+  // Each rule is its settings_table.h entry; the message keeps this layer's wording.
+  if (!settings::kSphereRadius.range.contains(s.radius)) {
     throw std::invalid_argument("sphere radius " + std::to_string(s.radius) +
                                 " m must be finite and > 0");
   }
-  if (!std::isfinite(s.friction) || s.friction < 0.0) {
+  if (!settings::kFriction.range.contains(s.friction)) {
     throw std::invalid_argument("sphere friction " + std::to_string(s.friction) +
                                 " must be finite and >= 0");
   }
-  if (!std::isfinite(s.mass) || s.mass < 0.0) {
+  if (!settings::kSphereMass.range.contains(s.mass)) {
     throw std::invalid_argument("sphere mass " + std::to_string(s.mass) +
                                 " kg must be finite and >= 0 (0 = kinematic)");
   }
-  if (!std::isfinite(s.restitution) || s.restitution < 0.0 || s.restitution > 1.0) {
+  if (!settings::kRestitution.range.contains(s.restitution)) {
     throw std::invalid_argument("sphere restitution " + std::to_string(s.restitution) +
                                 " must be in [0, 1]");
   }
@@ -158,7 +160,7 @@ const SphereCollider* Colliders::findSphere(int id) const {
 
 void Colliders::setGround(const GroundPlane& ground) {
   if (!std::isfinite(ground.height)) throw std::invalid_argument("ground height must be finite");
-  if (!std::isfinite(ground.friction) || ground.friction < 0.0) {
+  if (!settings::kFriction.range.contains(ground.friction)) {
     throw std::invalid_argument("ground friction " + std::to_string(ground.friction) +
                                 " must be finite and >= 0");
   }

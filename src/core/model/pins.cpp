@@ -1,4 +1,5 @@
 #include "cloth_sim/core/model/pins.h"
+#include "cloth_sim/core/settings/settings_table.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,7 +18,7 @@ int PinSet::add(int vertex, const Vec3& target, double stiffness, int particle_c
                                 std::to_string(findByVertex(vertex)->id) + ")");
   }
   if (!target.allFinite()) throw std::invalid_argument("pin target must be finite");
-  if (!std::isfinite(stiffness) || stiffness < 0.0) {
+  if (!settings::kPinStiffness.range.contains(stiffness)) {
     throw std::invalid_argument("pin stiffness " + std::to_string(stiffness) +
                                 " N/m must be finite and >= 0 (0 = hard pin)");
   }

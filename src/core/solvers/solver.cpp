@@ -1,10 +1,35 @@
 #include "cloth_sim/core/solvers/solver.h"
 
+#include <cstddef>
 #include <stdexcept>
 
 #include "cloth_sim/core/settings/settings_table.h"
 
 namespace cloth_sim {
+namespace {
+
+/// The names of @p all (an enum's values), as @p name gives them.
+template <typename Enum, std::size_t N>
+std::vector<std::string> namesOf(const Enum (&all)[N], const char* (*name)(Enum)) {
+  std::vector<std::string> names;
+  for (Enum e : all) names.emplace_back(name(e));
+  return names;
+}
+
+/// The value of @p all called @p wanted; throws naming @p what and the known names if none.
+template <typename Enum, std::size_t N>
+Enum fromName(const Enum (&all)[N], const char* (*name)(Enum), const std::string& wanted,
+              const char* what) {
+  for (Enum e : all) {
+    if (wanted == name(e)) return e;
+  }
+  std::string list;
+  for (const auto& n : namesOf(all, name)) list += (list.empty() ? "" : ", ") + n;
+  throw std::invalid_argument(std::string("unknown ") + what + " '" + wanted + "' (known: " + list +
+                              ")");
+}
+
+}  // namespace
 
 const char* linearSolverName(LinearSolver solver) {
   switch (solver) {
@@ -16,18 +41,11 @@ const char* linearSolverName(LinearSolver solver) {
 }
 
 std::vector<std::string> linearSolverNames() {
-  std::vector<std::string> names;
-  for (LinearSolver s : kLinearSolvers) names.emplace_back(linearSolverName(s));
-  return names;
+  return namesOf(kLinearSolvers, &linearSolverName);
 }
 
 LinearSolver linearSolverFromName(const std::string& name) {
-  for (LinearSolver s : kLinearSolvers) {
-    if (name == linearSolverName(s)) return s;
-  }
-  std::string list;
-  for (const auto& n : linearSolverNames()) list += (list.empty() ? "" : ", ") + n;
-  throw std::invalid_argument("unknown linear solver '" + name + "' (known: " + list + ")");
+  return fromName(kLinearSolvers, &linearSolverName, name, "linear solver");
 }
 
 const char* integratorName(Integrator integrator) {
@@ -38,19 +56,10 @@ const char* integratorName(Integrator integrator) {
   return "unknown";
 }
 
-std::vector<std::string> integratorNames() {
-  std::vector<std::string> names;
-  for (Integrator i : kIntegrators) names.emplace_back(integratorName(i));
-  return names;
-}
+std::vector<std::string> integratorNames() { return namesOf(kIntegrators, &integratorName); }
 
 Integrator integratorFromName(const std::string& name) {
-  for (Integrator i : kIntegrators) {
-    if (name == integratorName(i)) return i;
-  }
-  std::string list;
-  for (const auto& n : integratorNames()) list += (list.empty() ? "" : ", ") + n;
-  throw std::invalid_argument("unknown integrator '" + name + "' (known: " + list + ")");
+  return fromName(kIntegrators, &integratorName, name, "integrator");
 }
 
 void requireIntegrator(const Solver& solver, Integrator integrator) {
