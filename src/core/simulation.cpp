@@ -1,15 +1,15 @@
 #include "cloth_sim/core/simulation.h"
-#include "cloth_sim/core/settings/settings_table.h"
 
 #include <chrono>
-#include <utility>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
-#include "cloth_sim/core/solvers/implicit_euler_problem.h"
 #include "cloth_sim/core/collision/sphere_impacts.h"
 #include "cloth_sim/core/model/spring_kernels.h"
+#include "cloth_sim/core/settings/settings_table.h"
+#include "cloth_sim/core/solvers/implicit_euler_problem.h"
 
 namespace cloth_sim {
 
@@ -114,11 +114,23 @@ StepReport Simulation::step() {
 
 void Simulation::substep(const PinSet& pins, StepReport& report) {
   const double h = model_.time_step;
+  if (colliders_.empty()) {  // nothing to collide with: no start state to keep
+    solve(SolverInput{model_, pins, revision_, nullptr}, report);
+    return;
+  }
   const Points start = state_.positions, start_velocities = state_.velocities;
   colliders_.advance(h, model_.gravity, velocityDecay(model_));
   const CollisionStep collision{h, model_.mass, movable_, start, &start_velocities, model_.gravity};
-  if (!colliders_.empty()) contacts_.beginStep(collision, colliders_);
-  const SolverInput input{model_, pins, revision_, colliders_.empty() ? nullptr : &contacts_};
+  contacts_.beginStep(collision, colliders_);
+  const SolveResult solved = solve(SolverInput{model_, pins, revision_, &contacts_}, report);
+  // Only a solver that solved the contacts this step has fresh ball positions to hand over.
+  if (solved.used_contacts) contacts_.finish(colliders_);
+  report.contacts += resolveCollisions(collision, colliders_, state_.positions, state_.velocities,
+                                       solved.used_contacts);
+  report.contacts += resolveSphereImpacts(colliders_, 2.0 * model_.gravity.norm() * h);
+}
+
+SolveResult Simulation::solve(const SolverInput& input, StepReport& report) {
   const auto t_solve = std::chrono::steady_clock::now();
   const SolveResult solved = solver_->step(input, options_.settings, state_);
   report.solve_time +=
@@ -127,12 +139,7 @@ void Simulation::substep(const PinSet& pins, StepReport& report) {
   report.iterations = solved.iterations;
   report.convergence = solved.convergence;
   report.converged = solved.converged;
-  if (colliders_.empty()) return;
-  // Only a solver that solved the contacts this step has fresh ball positions to hand over.
-  if (solved.used_contacts) contacts_.finish(colliders_);
-  report.contacts += resolveCollisions(collision, colliders_, state_.positions, state_.velocities,
-                                       solved.used_contacts);
-  report.contacts += resolveSphereImpacts(colliders_, 2.0 * model_.gravity.norm() * h);
+  return solved;
 }
 
 void Simulation::interpolatePins(double s, PinSet& pins_at) const {

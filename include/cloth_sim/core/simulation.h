@@ -121,6 +121,8 @@ class Simulation {
   void rebuildMovableMask();
   /// One implicit step of model_.time_step with @p pins; adds what it did to @p report.
   void substep(const PinSet& pins, StepReport& report);
+  /// The solver's step on @p input, its iterations and time added to @p report.
+  SolveResult solve(const SolverInput& input, StepReport& report);
   /// @p pins_at with the targets of the pins moved since the last frame at fraction @p s of
   /// the way from their last-frame targets.
   void interpolatePins(double s, PinSet& pins_at) const;

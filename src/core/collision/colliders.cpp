@@ -1,5 +1,4 @@
 #include "cloth_sim/core/collision/colliders.h"
-#include "cloth_sim/core/settings/settings_table.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +7,7 @@
 
 #include "cloth_sim/core/collision/contact_projection.h"
 #include "cloth_sim/core/collision/spatial_hash.h"
+#include "cloth_sim/core/settings/settings_table.h"
 
 namespace cloth_sim {
 namespace {

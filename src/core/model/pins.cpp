@@ -1,10 +1,11 @@
 #include "cloth_sim/core/model/pins.h"
-#include "cloth_sim/core/settings/settings_table.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "cloth_sim/core/settings/settings_table.h"
 
 namespace cloth_sim {
 
