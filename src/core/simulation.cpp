@@ -124,7 +124,10 @@ void Simulation::substep(const PinSet& pins, StepReport& report) {
   contacts_.beginStep(collision, colliders_);
   const SolveResult solved = solve(SolverInput{model_, pins, revision_, &contacts_}, report);
   // Only a solver that solved the contacts this step has fresh ball positions to hand over.
-  if (solved.used_contacts) contacts_.finish(colliders_);
+  if (solved.used_contacts) {
+    contacts_.finish(colliders_);
+    report.contacts += contacts_.activeCount();
+  }
   report.contacts += resolveCollisions(collision, colliders_, state_.positions, state_.velocities,
                                        solved.used_contacts);
   report.contacts += resolveSphereImpacts(colliders_, 2.0 * model_.gravity.norm() * h);

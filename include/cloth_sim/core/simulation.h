@@ -33,7 +33,9 @@ struct StepReport {
   bool converged = false;    ///< the solver tolerance was reached
   double solve_time = 0.0;   ///< s of wall time in the solver (all substeps)
   double wall_time = 0.0;    ///< s of wall time for the whole step (solve, contacts, checks)
-  int contacts = 0;          ///< particles moved by the collision response
+  /// Contacts of the frame, summed over its substeps: contact forces that pushed in the solve
+  /// plus particles moved out of a collider by the projection after it.
+  int contacts = 0;
   double max_strain = 0.0;   ///< max |l - r| / r over the springs after the step
   std::string message;       ///< empty when ok; otherwise what went wrong and what was done
 };

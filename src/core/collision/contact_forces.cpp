@@ -315,4 +315,10 @@ void ContactForces::finish(Colliders& colliders) {
   }
 }
 
+int ContactForces::activeCount() const {
+  int active = 0;
+  for (const Contact& c : contacts_) active += c.lambda > 0.0 ? 1 : 0;
+  return active;
+}
+
 }  // namespace cloth_sim

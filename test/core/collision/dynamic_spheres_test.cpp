@@ -104,6 +104,27 @@ TEST(DynamicSpheres, ABallKeepsFallingAfterASwitchToASolverWithoutContactForces)
   EXPECT_NEAR(sim.colliders().spheres()[0].center.z(), z, 1e-9);
 }
 
+TEST(DynamicSpheres, ABallRestingOnTheSheetIsCountedAsInContactEveryFrame) {
+  // Held by contact forces in the solve, the resting ball needs no projection: the report's
+  // contacts must still show it (they count the forces that pushed, not only projections).
+  SolverSettings settings;
+  settings.substeps = 4;
+  settings.max_iterations = 2;
+  Simulation sim = pinnedSheet(15, 1.0, 300.0, "local_global", settings, 1.0);
+  sim.addSphere(heavyBall(0.1, 0.1, Vec3(0.0, 0.0, 0.12), Vec3::Zero()));
+  int frames_in_contact = 0;
+  for (int k = 0; k < 120; ++k) {
+    const StepReport report = sim.step();
+    ASSERT_EQ(report.status, StepStatus::kOk);
+    if (k >= 60) {  // settled on the sheet
+      EXPECT_GT(report.contacts, 0) << "frame " << k;
+      frames_in_contact += report.contacts > 0 ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(frames_in_contact, 60);
+  EXPECT_GT(sim.colliders().spheres()[0].center.z(), -0.3);  // held, not fallen through
+}
+
 TEST(DynamicSpheres, FastSphereDoesNotTunnelThroughTheSheet) {
   // 20 m/s: 33 cm per step at 60 Hz, more than the ball's diameter. Contacts are found along
   // the ball's path relative to the cloth (continuous detection, in the solve and after it);

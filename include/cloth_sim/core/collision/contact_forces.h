@@ -73,6 +73,9 @@ class ContactForces {
   void finish(Colliders& colliders);
 
   bool empty() const { return contacts_.empty(); }
+  /// Contacts of this step that push (lambda > 0): a contact point on a triangle, an edge or a
+  /// vertex (spheres) or a particle (ground, mesh obstacles).
+  int activeCount() const;
 
  private:
   struct Contact {
