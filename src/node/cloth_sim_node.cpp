@@ -34,7 +34,7 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
     : options_(std::move(options)),
       scene_name_(std::move(scene_name)),
       sim_(std::move(sim)),
-      monitor_(sim_.model().time_step, options_.max_rollbacks),
+      monitor_(sim_.frameTime(), options_.max_rollbacks),
       tf_listener_(tf_buffer_),
       frames_(tf_buffer_, options_.frame_id),
       nh_(nh),

@@ -9,6 +9,9 @@
 #include <visualization_msgs/InteractiveMarkerUpdate.h>
 
 #include <atomic>
+#include <mutex>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
 
 #include <cloth_sim/AddPin.h>
 #include <cloth_sim/PinMove.h>
@@ -268,11 +271,13 @@ TEST(Integration, AThrownKinematicSphereKeepsItsVelocityThroughTheCloth) {
 TEST(Integration, AThrownDynamicSphereFallsAndIsSlowedByTheCloth) {
   NodeProbe& p = probe();
   reset();
-  ros::WallDuration(2.0).sleep();  // let the cloth swing down into the plane y = 0.5
-  const double mass = 0.2, speed = 4.0;  // kg, m/s: crosses y = 0.5 after 0.2 s, 0.2 m lower
+  // Thrown down at the middle of the cloth, which has only started to fall (it is flat at
+  // z = 1.5 at the reset): the ball meets it within a few frames, whatever the solver settings
+  // (a cloth left to swing first is somewhere else at each configuration).
+  const double mass = 0.2, speed = 4.0;  // kg, m/s
   SpawnSphere::Request req;
-  req.center = stamped("world", 0.0, -0.3, 1.0);
-  req.velocity.y = speed;
+  req.center = stamped("world", 0.0, 0.0, 1.8);
+  req.velocity.z = -speed;
   req.radius = 0.1;
   req.mass = mass;
   const auto res = call<SpawnSphere>("cloth/spawn_sphere", req);
@@ -281,22 +286,24 @@ TEST(Integration, AThrownDynamicSphereFallsAndIsSlowedByTheCloth) {
   const auto states = p.collectStates(0.8);
   ASSERT_GE(states.size(), 10u);
   int contacts = 0;
-  double slowest = speed;
+  double push = 0.0;  // m/s: how much slower than a free fall since the first state
+  const ClothState& first = states.front();
   for (const ClothState& s : states) {
     contacts += s.contacts;
     ASSERT_EQ(s.spheres.size(), 1u);
     EXPECT_EQ(s.spheres[0].mass, mass);
-    slowest = std::min(slowest, s.spheres[0].velocity.y);
+    const double free_fall = first.spheres[0].velocity.z - 9.81 * (s.sim_time - first.sim_time);
+    push = std::max(push, s.spheres[0].velocity.z - free_fall);
   }
   EXPECT_GT(contacts, 0) << "the sphere never touched the cloth";
-  std::printf("[measured] dynamic sphere: slowest horizontal speed %.3f m/s (thrown at %.1f)\n",
-              slowest, speed);
-  EXPECT_LT(slowest, 0.9 * speed) << "the cloth did not push back on the sphere";
-  const ClothState& first = states.front();
+  std::printf("[measured] dynamic sphere: up to %.3f m/s slower than a free fall\n", push);
+  // The converged small-step run of this throw (64 substeps) ends 2.9 m/s above free fall;
+  // the ball's drag alone accounts for 0.6 m/s of it.
+  EXPECT_GT(push, 1.0) << "the cloth did not push back on the sphere";
   const ClothState& last = states.back();
   const double dt = last.sim_time - first.sim_time;
-  // Gravity acts on it: by the end it falls faster than the cloth alone could hold it.
-  EXPECT_LT(last.spheres[0].velocity.z, first.spheres[0].velocity.z - 0.5 * 9.81 * dt);
+  // Gravity acts on it: by the end it falls faster than it was thrown.
+  EXPECT_LT(last.spheres[0].velocity.z, -speed - 0.25 * 9.81 * dt);
 
   // Its marker follows it.
   const auto arrays = p.collectMarkers(0.3);
@@ -306,6 +313,32 @@ TEST(Integration, AThrownDynamicSphereFallsAndIsSlowedByTheCloth) {
   ASSERT_NE(early, nullptr);
   ASSERT_NE(late, nullptr);
   EXPECT_LT(late->pose.position.z, early->pose.position.z - 0.05) << "the marker does not fall";
+}
+
+TEST(Integration, TheDiagnosticsJudgeEachFrameAgainstTheFramesBudget) {
+  // A frame of 1/60 s is many substeps (32 in hanging): real time means a frame within
+  // 16.67 ms, not a substep within its own h.
+  probe();
+  ros::NodeHandle nh;
+  std::mutex mutex;
+  std::string message;
+  ros::Subscriber diag = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& a) {
+        std::lock_guard<std::mutex> lock(mutex);
+        for (const auto& s : a->status)
+          if (s.name.find("simulation step") != std::string::npos) message = s.message;
+      });
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(5.0);
+  while (ros::WallTime::now() < end) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!message.empty()) break;
+    }
+    ros::WallDuration(0.05).sleep();
+  }
+  std::lock_guard<std::mutex> lock(mutex);
+  ASSERT_FALSE(message.empty()) << "no simulation step status on /diagnostics";
+  EXPECT_NE(message.find("16.67 ms budget"), std::string::npos) << message;
 }
 
 TEST(Integration, ResetRestoresTheInitialState) {
