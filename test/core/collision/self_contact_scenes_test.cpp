@@ -210,5 +210,108 @@ TEST(SelfContactRandom, FoldsAndDropsNeverIntersect) {
   }
 }
 
+// Recovery from a tangle (docs/method.md, "Self-contact", "Tangles"). The hanging cloth of
+// 20 x 20 (1 m, two top corners pinned; four for the balls), 8 substeps of 2 iterations.
+std::string tangleScene(bool four_corners, bool self_collision) {
+  std::string yaml = R"(
+time_step: 1/60
+solver: {name: local_global, iterations: 2, substeps: 8}
+cloth:
+  grid: {rows: 20, cols: 20, size: [1.0, 1.0], position: [0.0, 0.0, 1.5]}
+material:
+  areal_density: 0.2
+  damping: 0.1
+  springs: {structural: 400, shear: 40, bending: 4}
+pins:
+  - {row: 0, col: 0}
+  - {row: 0, col: 19}
+)";
+  if (four_corners) yaml += "  - {row: 19, col: 0}\n  - {row: 19, col: 19}\n";
+  if (self_collision) yaml += "self_collision: {friction: 0.3}\n";
+  return yaml;
+}
+
+struct TangleRun {
+  double final_strain = 0.0;
+  int max_intersections = 0, final_intersections = 0, failed_steps = 0;
+};
+
+/// Steps @p sim @p frames times, @p before called before each step with the frame number.
+template <typename Before>
+TangleRun runTangle(Simulation& sim, int frames, Before&& before) {
+  TangleRun r;
+  for (int k = 1; k <= frames; ++k) {
+    before(k);
+    const StepReport report = sim.step();
+    r.failed_steps += report.status != StepStatus::kOk;
+    r.max_intersections = std::max(r.max_intersections, sim.countIntersections());
+    r.final_strain = report.max_strain;
+  }
+  r.final_intersections = sim.countIntersections();
+  return r;
+}
+
+TEST(TangleRecovery, PinJumpedOneMetreAndBackLeavesNoCrease) {
+  // A corner pin jumps 1 m down in one message after 1 s, and back after 2 s; 6 s in all. The
+  // same cloth left alone gives the strain it should come back to.
+  for (const bool self : {false, true}) {
+    Simulation quiet = makeSimulation(parseScene(tangleScene(false, self), "tangle"));
+    const TangleRun base = runTangle(quiet, 360, [](int) {});
+    Simulation sim = makeSimulation(parseScene(tangleScene(false, self), "tangle"));
+    const int pin = sim.pins().pins().front().id;
+    const Vec3 home = sim.pins().find(pin)->target;
+    const TangleRun r = runTangle(sim, 360, [&](int k) {
+      if (k == 60) sim.movePin(pin, home + Vec3(0, 0, -1.0));
+      if (k == 120) sim.movePin(pin, home);
+    });
+    std::printf("pin jump, self-collision %s: final max strain %.3f (left alone: %.3f), "
+                "intersecting pairs max %d, at the end %d, failed steps %d\n",
+                self ? "on" : "off", r.final_strain, base.final_strain, r.max_intersections,
+                r.final_intersections, r.failed_steps);
+    if (!self) continue;  // off: measured and documented, not asserted (see method.md)
+    EXPECT_EQ(r.max_intersections, 0);
+    EXPECT_EQ(r.failed_steps, 0);
+    EXPECT_LT(r.final_strain, 1.2 * base.final_strain + 0.02);
+  }
+}
+
+TEST(TangleRecovery, TwoHundredBallsDroppedThroughTheClothLeaveNoCrease) {
+  // 200 balls of 1.5 cm (smaller than the 5 cm spacing: they push through) dropped at 3 m/s
+  // onto the cloth held by its four corners, one every other frame; those left are taken away
+  // at 8 s, and the cloth has 2 s to settle.
+  for (const bool self : {false, true}) {
+    Simulation quiet = makeSimulation(parseScene(tangleScene(true, self), "balls"));
+    const TangleRun base = runTangle(quiet, 600, [](int) {});
+    Simulation sim = makeSimulation(parseScene(tangleScene(true, self), "balls"));
+    std::mt19937 rng(12);
+    std::uniform_real_distribution<double> u(-0.45, 0.45);
+    int spawned = 0;
+    const TangleRun r = runTangle(sim, 600, [&](int k) {
+      if (k % 2 == 0 && spawned < 200) {
+        SphereCollider ball;
+        ball.center = Vec3(u(rng), u(rng), 2.0);
+        ball.radius = 0.015;
+        ball.mass = 0.05;
+        ball.velocity = Vec3(0, 0, -3.0);
+        sim.addSphere(ball);
+        ++spawned;
+      }
+      std::vector<int> gone;
+      for (const SphereCollider& s : sim.colliders().spheres()) {
+        if (s.center.z() < -1.0 || k >= 480) gone.push_back(s.id);
+      }
+      for (int id : gone) sim.removeSphere(id);
+    });
+    std::printf("200 balls, self-collision %s: final max strain %.3f (left alone: %.3f), "
+                "intersecting pairs max %d, at the end %d, failed steps %d\n",
+                self ? "on" : "off", r.final_strain, base.final_strain, r.max_intersections,
+                r.final_intersections, r.failed_steps);
+    if (!self) continue;
+    EXPECT_EQ(r.max_intersections, 0);
+    EXPECT_EQ(r.failed_steps, 0);
+    EXPECT_LT(r.final_strain, 1.2 * base.final_strain + 0.02);
+  }
+}
+
 }  // namespace
 }  // namespace cloth_sim
