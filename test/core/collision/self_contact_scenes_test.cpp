@@ -155,6 +155,31 @@ TEST(SelfContactScenes, OptionOffGivesBitIdenticalTrajectories) {
   }
 }
 
+TEST(SelfContactScenes, WorksWithSpheresDynamicBallsAndMeshObstacles) {
+  // drape (a sphere and the ground, contact in the solve), gravity_well (dynamic balls rolling
+  // on the sheet) and tablecloth (a mesh cloth on a mesh table) with self-collision on at the
+  // automatic thickness: 2 s each.
+  for (const char* scene : {"drape", "gravity_well", "tablecloth"}) {
+    SCOPED_TRACE(scene);
+    const std::string path = test::sourcePath("config/scenes/" + std::string(scene) + ".yaml");
+    Simulation sim = makeSimulation(parseScene(readFile(path) + "\nself_collision: {}\n", path));
+    int max_intersections = 0, failed = 0;
+    for (int k = 0; k < 120; ++k) {
+      const StepReport r = sim.step();
+      max_intersections = std::max(max_intersections, r.intersections);
+      failed += r.status != StepStatus::kOk;
+    }
+    std::printf("%s with self-collision (t = %.4f m): max intersecting pairs %d, failed steps %d\n",
+                scene, sim.selfContact()->thickness(), max_intersections, failed);
+    EXPECT_EQ(max_intersections, 0);
+    EXPECT_EQ(failed, 0);
+    const GroundPlane& ground = sim.colliders().ground();
+    if (ground.enabled) {  // the ground has the last word over self-contact
+      EXPECT_GE(sim.state().positions.row(2).minCoeff(), ground.height - 1e-9);
+    }
+  }
+}
+
 /// A random fold or drop: size, resolution, height, lean, fold path. Built from YAML text, as a
 /// scene file would be.
 std::string randomScene(std::mt19937& rng, bool pile, double& thickness) {
