@@ -43,11 +43,11 @@ SelfContact::SelfContact(const Eigen::Matrix3Xi& triangles, const Points& rest,
   }
   ring_.reserve(ring_start_[n]);
   for (const auto& r : ring) ring_.insert(ring_.end(), r.begin(), r.end());
-  thickness_ = settings.thickness > 0.0 ? settings.thickness
-                                        : (edges > 0 ? edge_sum / edges : 0.0);
+  thickness_ = settings.thickness > 0.0 ? settings.thickness : (edges > 0 ? edge_sum / edges : 0.0);
   if (!(thickness_ > 0.0)) {
-    throw std::invalid_argument("self_collision.thickness: 0 (automatic) needs a cloth with "
-                                "triangles of non-zero size; give a thickness > 0 m");
+    throw std::invalid_argument(
+        "self_collision.thickness: 0 (automatic) needs a cloth with "
+        "triangles of non-zero size; give a thickness > 0 m");
   }
 }
 
@@ -145,7 +145,8 @@ int SelfContact::resolve(const CollisionStep& step, const GroundPlane& ground, P
       end.col(p.i) += (wi / w * correction) * n;
       end.col(p.j) -= (wj / w * correction) * n;
       // Friction on the relative slide of the two over the substep.
-      const Vec3 slide = (end.col(p.i) - step.start.col(p.i)) - (end.col(p.j) - step.start.col(p.j));
+      const Vec3 slide =
+          (end.col(p.i) - step.start.col(p.i)) - (end.col(p.j) - step.start.col(p.j));
       const Vec3 kept = applyFriction(slide, n, correction, friction_);
       const Vec3 cut = slide - kept;
       end.col(p.i) -= (wi / w) * cut;

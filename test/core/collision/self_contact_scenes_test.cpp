@@ -99,10 +99,11 @@ RunResult run(Simulation& sim, int pin, int to_vertex, double lift, int fold_fra
 }
 
 void expectClean(const RunResult& r, const std::string& what) {
-  std::printf("%s: %d steps, max intersecting pairs %d, failed steps %d, min layer distance "
-              "%.4f m = %.2f t (t = %.4f m), max speed at the end %.3f m/s\n",
-              what.c_str(), r.steps, r.max_intersections, r.failed_steps, r.min_layer_distance,
-              r.min_layer_distance / r.thickness, r.thickness, r.max_speed);
+  std::printf(
+      "%s: %d steps, max intersecting pairs %d, failed steps %d, min layer distance "
+      "%.4f m = %.2f t (t = %.4f m), max speed at the end %.3f m/s\n",
+      what.c_str(), r.steps, r.max_intersections, r.failed_steps, r.min_layer_distance,
+      r.min_layer_distance / r.thickness, r.thickness, r.max_speed);
   EXPECT_EQ(r.max_intersections, 0) << what;
   EXPECT_EQ(r.failed_steps, 0) << what;
   EXPECT_GE(r.min_layer_distance, 0.5 * r.thickness) << what;
@@ -138,7 +139,8 @@ void expectOffIsAbsent(const std::string& scene) {
   const std::string text = readFile(path);
   ASSERT_EQ(text.find("self_collision"), std::string::npos);
   Simulation absent = makeSimulation(parseScene(text, path));
-  Simulation off = makeSimulation(parseScene(text + "\nself_collision: {enabled: false, thickness: 0.01}\n", path));
+  Simulation off = makeSimulation(
+      parseScene(text + "\nself_collision: {enabled: false, thickness: 0.01}\n", path));
   for (int k = 0; k < 40; ++k) {
     const StepReport a = absent.step(), b = off.step();
     EXPECT_EQ(a.intersections, -1);
@@ -289,10 +291,11 @@ TEST(TangleRecovery, PinJumpedOneMetreAndBackLeavesNoCrease) {
       if (k == 60) sim.movePin(pin, home + Vec3(0, 0, -1.0));
       if (k == 120) sim.movePin(pin, home);
     });
-    std::printf("pin jump, self-collision %s: final max strain %.3f (left alone: %.3f), "
-                "intersecting pairs max %d, at the end %d, failed steps %d\n",
-                self ? "on" : "off", r.final_strain, base.final_strain, r.max_intersections,
-                r.final_intersections, r.failed_steps);
+    std::printf(
+        "pin jump, self-collision %s: final max strain %.3f (left alone: %.3f), "
+        "intersecting pairs max %d, at the end %d, failed steps %d\n",
+        self ? "on" : "off", r.final_strain, base.final_strain, r.max_intersections,
+        r.final_intersections, r.failed_steps);
     if (!self) continue;  // off: measured and documented, not asserted (see method.md)
     EXPECT_EQ(r.max_intersections, 0);
     EXPECT_EQ(r.failed_steps, 0);
@@ -327,10 +330,11 @@ TEST(TangleRecovery, TwoHundredBallsDroppedThroughTheClothLeaveNoCrease) {
       }
       for (int id : gone) sim.removeSphere(id);
     });
-    std::printf("200 balls, self-collision %s: final max strain %.3f (left alone: %.3f), "
-                "intersecting pairs max %d, at the end %d, failed steps %d\n",
-                self ? "on" : "off", r.final_strain, base.final_strain, r.max_intersections,
-                r.final_intersections, r.failed_steps);
+    std::printf(
+        "200 balls, self-collision %s: final max strain %.3f (left alone: %.3f), "
+        "intersecting pairs max %d, at the end %d, failed steps %d\n",
+        self ? "on" : "off", r.final_strain, base.final_strain, r.max_intersections,
+        r.final_intersections, r.failed_steps);
     if (!self) continue;
     EXPECT_EQ(r.max_intersections, 0);
     EXPECT_EQ(r.failed_steps, 0);

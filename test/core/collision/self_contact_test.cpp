@@ -25,7 +25,8 @@ struct StepData {
   Eigen::VectorXd mass;
   std::vector<char> movable;
   Points start;
-  StepData(int n, const Points& s) : mass(Eigen::VectorXd::Constant(n, 0.1)), movable(n, 1), start(s) {}
+  StepData(int n, const Points& s)
+      : mass(Eigen::VectorXd::Constant(n, 0.1)), movable(n, 1), start(s) {}
   CollisionStep step(double h) const { return CollisionStep{h, mass, movable, start}; }
 };
 
@@ -134,8 +135,10 @@ TEST(SelfContact, FrictionHoldsASlideOfLessThanMuTimesTheCorrection) {
     for (int k = 4; k < 8; ++k) {
       // mu = 0: it slides on (and further, pushed out along the tilted line between the two);
       // mu = 1: the correction (2 cm) exceeds the slide, which is cut to a few micrometres.
-      if (mu == 0.0) EXPECT_GT(x(0, k) - start(0, k), 0.002);
-      else EXPECT_NEAR(x(0, k) - start(0, k), 0.0, 2e-5);
+      if (mu == 0.0)
+        EXPECT_GT(x(0, k) - start(0, k), 0.002);
+      else
+        EXPECT_NEAR(x(0, k) - start(0, k), 0.0, 2e-5);
       EXPECT_GE((x.col(k) - x.col(k - 4)).norm(), 0.05 - 1e-12);
     }
   }
@@ -149,8 +152,8 @@ TEST(SelfContact, DisplacementIsBoundedAndVelocityFollows) {
   StepData data(8, sheets.rest);
   data.movable[1] = 0;
   Points x = sheets.rest, v = Points::Zero(3, 8);
-  x.col(0) += Vec3(0, 0, -0.5);  // 0.5 m in one substep: cut to 3 cm
-  x.col(1) += Vec3(0, 0, -0.5);  // pinned: the pin decides
+  x.col(0) += Vec3(0, 0, -0.5);   // 0.5 m in one substep: cut to 3 cm
+  x.col(1) += Vec3(0, 0, -0.5);   // pinned: the pin decides
   x.col(2) += Vec3(0, 0, -0.02);  // within the bound
   v.col(0) = Vec3(0, 0, -50.0);
   EXPECT_EQ(contact.limitDisplacement(data.step(0.01), x, v), 1);

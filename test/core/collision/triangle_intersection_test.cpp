@@ -21,14 +21,14 @@ TEST(TriangleIntersection, CrossingTouchingAndApartTriangles) {
   EXPECT_FALSE(trianglesIntersect(a0, a1, a2, Vec3(0.8, 0.8, -0.5), Vec3(0.8, 0.8, 0.5),
                                   Vec3(0.9, 0.9, 0.5)));
   // Two layers one above the other, parallel: apart.
-  EXPECT_FALSE(trianglesIntersect(a0, a1, a2, Vec3(0, 0, 0.01), Vec3(1, 0, 0.01),
-                                  Vec3(0, 1, 0.01)));
+  EXPECT_FALSE(
+      trianglesIntersect(a0, a1, a2, Vec3(0, 0, 0.01), Vec3(1, 0, 0.01), Vec3(0, 1, 0.01)));
   // Touching at one point (a vertex on the face): not counted.
   EXPECT_FALSE(trianglesIntersect(a0, a1, a2, Vec3(0.2, 0.2, 0.0), Vec3(0.2, 0.3, 1.0),
                                   Vec3(0.3, 0.2, 1.0)));
   // An edge through the interior while no vertex of either is inside the other ("X" shape).
-  EXPECT_TRUE(trianglesIntersect(Vec3(-1, 0.3, 0), Vec3(2, 0.3, 0), Vec3(0.5, 0.3, 3), a0 + Vec3(0, 0, -1),
-                                 Vec3(0.5, 2, 1), Vec3(0.5, -2, 1)));
+  EXPECT_TRUE(trianglesIntersect(Vec3(-1, 0.3, 0), Vec3(2, 0.3, 0), Vec3(0.5, 0.3, 3),
+                                 a0 + Vec3(0, 0, -1), Vec3(0.5, 2, 1), Vec3(0.5, -2, 1)));
   EXPECT_TRUE(segmentCrossesTriangle(Vec3(0.1, 0.1, -1), Vec3(0.1, 0.1, 1), a0, a1, a2));
   EXPECT_FALSE(segmentCrossesTriangle(Vec3(0.1, 0.1, 0), Vec3(0.1, 0.1, 1), a0, a1, a2));
 }
@@ -60,7 +60,7 @@ TEST(IntersectionCounter, FlatAndFoldedClothHaveNoneAndAClothThroughItselfHasMan
   for (Eigen::Index k = 0; k < through.cols(); ++k) {
     const double r = through(0, k);
     if (r > 0.0) {
-      through(0, k) = 0.25 - r;  // folded over onto the left half...
+      through(0, k) = 0.25 - r;                   // folded over onto the left half...
       through(2, k) = 0.05 * std::sin(40.0 * r);  // ...weaving through it
     }
   }

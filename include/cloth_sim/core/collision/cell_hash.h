@@ -50,9 +50,9 @@ class CellHash {
 
   double cell_size_ = 1.0;
   std::size_t mask_ = 0;
-  std::vector<int> start_;               ///< slot -> first entry; size table + 1
-  std::vector<int> ids_;                 ///< entries sorted by slot
-  std::vector<Eigen::Vector3i> cells_;   ///< the cell of each entry (rejects slot collisions)
+  std::vector<int> start_;              ///< slot -> first entry; size table + 1
+  std::vector<int> ids_;                ///< entries sorted by slot
+  std::vector<Eigen::Vector3i> cells_;  ///< the cell of each entry (rejects slot collisions)
   std::vector<Eigen::Vector3i> item_cell_;
   std::vector<std::size_t> item_slot_;
 };

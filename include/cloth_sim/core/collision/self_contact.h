@@ -91,7 +91,7 @@ class SelfContact {
   };
   std::vector<Pair> pairs_;
   std::vector<Pair> active_;  ///< the pairs near contact in this substep
-  Points built_at_;  ///< positions pairs_ was built at (empty: none)
+  Points built_at_;           ///< positions pairs_ was built at (empty: none)
   long rebuilds_ = 0;
   Points before_;
 };
