@@ -5,8 +5,9 @@
 #   speed      every solver x iteration count x scene x grid, error against converged Newton
 #   stability  every solver over stiffness x time step x hard cases
 #   scaling    cost against sphere count, and cloth size over mesh obstacles
+#   self_collision  cost of self-collision against the particle count (bench/self_collision.sh)
 # and turns the CSV files into plots and tables (bench/report.py). Results: bench/results/.
-# Usage: bench/run.sh [accuracy|floor|speed|stability|scaling|report|all] [extra cloth_sim_bench options]
+# Usage: bench/run.sh [accuracy|floor|speed|stability|scaling|self_collision|report|all] [extra cloth_sim_bench options]
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../scripts/env.sh"
 what="${1:-all}"
@@ -19,6 +20,7 @@ echo "[bench] $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; load: $(c
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 case "$what" in
   accuracy|floor|speed|stability|scaling) "$BENCH" "$what" "$@" ;;
+  self_collision) bash "$REPO_ROOT/bench/self_collision.sh" "$@" ;;
   report) ;;
   all)
     "$BENCH" accuracy
@@ -26,8 +28,9 @@ case "$what" in
     "$BENCH" speed
     "$BENCH" stability
     "$BENCH" scaling
+    bash "$REPO_ROOT/bench/self_collision.sh"
     ;;
-  *) echo "usage: $0 [accuracy|floor|speed|stability|scaling|report|all] [options]" >&2; exit 1 ;;
+  *) echo "usage: $0 [accuracy|floor|speed|stability|scaling|self_collision|report|all] [options]" >&2; exit 1 ;;
 esac
 echo "[bench] load after: $(cut -d' ' -f1-3 /proc/loadavg)"
 /usr/bin/python3 "$REPO_ROOT/bench/report.py" "$REPO_ROOT/bench/results"

@@ -25,6 +25,9 @@ add_library(cloth_sim_core
   src/core/collision/sphere_impacts.cpp
   src/core/collision/spatial_hash.cpp
   src/core/collision/mesh_obstacle.cpp
+  src/core/collision/cell_hash.cpp
+  src/core/collision/triangle_intersection.cpp
+  src/core/collision/self_contact.cpp
   src/core/solvers/solver.cpp
   src/core/solvers/registry.cpp
   src/core/solvers/implicit_euler_problem.cpp
@@ -71,6 +74,8 @@ if(CATKIN_ENABLE_TESTING)
     model/grid_builder_test model/triangle_mesh_test model/mesh_builder_test
     collision/colliders_test collision/mesh_obstacle_test collision/sphere_impacts_test
     collision/dynamic_spheres_test collision/contact_random_test
+    collision/cell_hash_test collision/triangle_intersection_test collision/self_contact_test
+    collision/self_contact_scenes_test
     solvers/implicit_euler_problem_test solvers/newton_solver_test solvers/revision_cache_test
     solvers/bdf2_test
     solvers/local_global/local_step_test solvers/local_global/global_system_test

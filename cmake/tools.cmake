@@ -1,6 +1,6 @@
 # Tools built on the core: headless runner and benchmark (included from CMakeLists.txt).
 # ---------------------------------------------------------------------------------------------
-add_library(cloth_sim_tools STATIC tools/runner/step_log.cpp)
+add_library(cloth_sim_tools STATIC tools/runner/step_log.cpp tools/runner/fold_script.cpp)
 target_include_directories(cloth_sim_tools PUBLIC tools/runner)
 target_link_libraries(cloth_sim_tools PUBLIC cloth_sim_core)
 

@@ -24,6 +24,7 @@ const char* stepStatusName(StepStatus status) {
 
 void SimulationOptions::validate() const {
   settings.validate();
+  self_contact.validate();
   requireIntegrator(*makeSolver(solver), settings.integrator);  // makeSolver lists the names
   if (!settings::kDivergenceStrain.range.contains(divergence_strain)) {
     throw std::invalid_argument("divergence_strain must be finite and " +
@@ -56,6 +57,7 @@ Simulation::Simulation(Model model, const Points& rest_positions, PinSet pins,
   initial_colliders_ = colliders_;
   solver_ = makeSolver(options_.solver);
   rebuildMovableMask();
+  if (options_.self_contact.enabled) setSelfContact(options_.self_contact);
 }
 
 void Simulation::rebuildMovableMask() {
@@ -108,13 +110,19 @@ StepReport Simulation::step() {
   sphere_jumps_.clear();
   frame_targets_.clear();
   for (const Pin& pin : pins_.pins()) frame_targets_.emplace_back(pin.id, pin.target);
+  if (self_contact_) {
+    const auto t_count = std::chrono::steady_clock::now();
+    report.intersections = countIntersections();
+    report.intersection_time =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_count).count();
+  }
   report.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;
 }
 
 void Simulation::substep(const PinSet& pins, StepReport& report) {
   const double h = model_.time_step;
-  if (colliders_.empty()) {  // nothing to collide with: no start state to keep
+  if (colliders_.empty() && !self_contact_) {  // nothing to collide with: no start state to keep
     solve(SolverInput{model_, pins, revision_, nullptr}, report);
     return;
   }
@@ -128,9 +136,23 @@ void Simulation::substep(const PinSet& pins, StepReport& report) {
     contacts_.finish(colliders_);
     report.contacts += contacts_.activeCount();
   }
+  const auto t_self = std::chrono::steady_clock::now();
+  // The bound before the colliders: a collider's own correction is never shortened.
+  if (self_contact_) {
+    report.self_contacts +=
+        self_contact_->limitDisplacement(collision, state_.positions, state_.velocities);
+  }
+  auto self_time = std::chrono::steady_clock::now() - t_self;
   report.contacts += resolveCollisions(collision, colliders_, state_.positions, state_.velocities,
                                        solved.used_contacts);
   report.contacts += resolveSphereImpacts(colliders_, 2.0 * model_.gravity.norm() * h);
+  if (self_contact_) {
+    const auto t_resolve = std::chrono::steady_clock::now();
+    report.self_contacts += self_contact_->resolve(collision, colliders_.ground(), state_.positions,
+                                                   state_.velocities);
+    self_time += std::chrono::steady_clock::now() - t_resolve;
+    report.self_contact_time += std::chrono::duration<double>(self_time).count();
+  }
 }
 
 SolveResult Simulation::solve(const SolverInput& input, StepReport& report) {
@@ -301,6 +323,21 @@ void Simulation::setSolverSettings(const SolverSettings& settings) {
   }
   if (settings.integrator != options_.settings.integrator) ++revision_;  // another matrix
   options_.settings = settings;
+}
+
+void Simulation::setSelfContact(const SelfContactSettings& settings) {
+  settings.validate();
+  std::unique_ptr<SelfContact> next;
+  if (settings.enabled) {
+    next = std::make_unique<SelfContact>(model_.triangles, initial_state_.positions, settings);
+  }
+  self_contact_ = std::move(next);
+  options_.self_contact = settings;
+}
+
+int Simulation::countIntersections() {
+  if (!intersections_) intersections_ = std::make_unique<IntersectionCounter>(model_.triangles);
+  return intersections_->count(state_.positions);
 }
 
 int Simulation::nearestParticle(const Vec3& point) const {

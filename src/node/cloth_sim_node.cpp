@@ -229,6 +229,7 @@ ClothSimConfig ClothSimNode::currentConfig() const {
   c.solver = sim_.solver().name();
   c.iterations = sim_.solverSettings().max_iterations;
   c.substeps = sim_.solverSettings().substeps;
+  c.self_collision = sim_.selfContact() != nullptr;
   return c;
 }
 
@@ -269,6 +270,13 @@ void ClothSimNode::onReconfigure(ClothSimConfig& config, std::uint32_t /*level*/
   };
   applySolverSetting("iterations", &ClothSimConfig::iterations, &SolverSettings::max_iterations);
   applySolverSetting("substeps", &ClothSimConfig::substeps, &SolverSettings::substeps);
+  apply("self_collision", config.self_collision != current.self_collision,
+        [&] {
+          SelfContactSettings self = sim_.options().self_contact;
+          self.enabled = config.self_collision;
+          sim_.setSelfContact(self);
+        },
+        [&] { config.self_collision = current.self_collision; });
 }
 
 }  // namespace cloth_sim::node

@@ -110,6 +110,7 @@ ClothState toClothState(const Simulation& sim, const StepReport& report,
   s.max_strain = report.max_strain;
   s.energy = sim.totalEnergy();
   s.contacts = report.contacts;
+  s.self_intersections = report.intersections;
   s.status = stepStatusName(report.status);
   s.message = report.message;
   s.consecutive_failures = counters.consecutive_failures;

@@ -110,6 +110,11 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
   read.get("solver", o.solver);
   read.get("iterations", o.iterations);
   read.get("substeps", o.substeps);
+  if (private_params.valid() && private_params.hasMember("self_collision")) {
+    bool on = false;
+    read.get("self_collision", on);
+    o.self_collision = on;
+  }
   read.get("max_rollbacks", o.max_rollbacks);
   read.get("strain_color_scale", o.strain_color_scale);
   read.get("shading", o.shading);
@@ -175,6 +180,7 @@ SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir) 
   if (!options.solver.empty()) overrides.solver = options.solver;
   if (options.iterations > 0) overrides.iterations = options.iterations;
   if (options.substeps > 0) overrides.substeps = options.substeps;
+  overrides.self_collision = options.self_collision;
   return applyOverrides(std::move(scene), overrides);
 }
 

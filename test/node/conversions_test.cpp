@@ -160,6 +160,13 @@ TEST(Conversions, ClothStateReportsTheStepAndTheSimulation) {
   }
   ASSERT_EQ(s.spheres.size(), 1u);
   EXPECT_EQ(toVec3(s.spheres[0].center), sim.colliders().spheres()[0].center);
+  EXPECT_EQ(s.self_intersections, -1);  // self-collision off: not counted
+
+  SelfContactSettings self;
+  self.enabled = true;
+  sim.setSelfContact(self);
+  const StepReport counted = sim.step();
+  EXPECT_EQ(toClothState(sim, counted, StepCounters{5, 0, 1}, header).self_intersections, 0);
 }
 
 }  // namespace

@@ -159,6 +159,21 @@ TEST(LoadScene, LoadsAShippedSceneByNameAndAppliesTheOverrides) {
   EXPECT_EQ(scene.options.settings.substeps, 3);
 }
 
+TEST(LoadScene, SelfCollisionParameterOverridesTheScene) {
+  XmlRpc::XmlRpcValue p = params("fold");
+  EXPECT_FALSE(parseNodeOptions(p).self_collision.has_value());  // unset: the scene's
+  EXPECT_TRUE(loadScene(parseNodeOptions(p), kSceneDir).options.self_contact.enabled);
+  p["self_collision"] = false;
+  EXPECT_FALSE(loadScene(parseNodeOptions(p), kSceneDir).options.self_contact.enabled);
+  p = params("hanging");
+  p["self_collision"] = true;
+  const SceneConfig on = loadScene(parseNodeOptions(p), kSceneDir);
+  EXPECT_TRUE(on.options.self_contact.enabled);
+  EXPECT_EQ(on.options.self_contact.thickness, 0.0);  // automatic
+  p["self_collision"] = "yes";
+  EXPECT_NE(parseError(p).find("self_collision"), std::string::npos) << parseError(p);
+}
+
 TEST(LoadScene, AMissingFileIsRefusedNamingTheParameterAndThePath) {
   const std::string m = loadError("no_such_scene");
   EXPECT_NE(m.find("parameter '~scene'"), std::string::npos) << m;

@@ -64,6 +64,11 @@ TEST(ReconfigureCfg, NumericParametersMatchTheSettingsTable) {
   EXPECT_EQ(numeric, 6);
 }
 
+TEST(ReconfigureCfg, SelfCollisionSwitchIsOffAsInAScene) {
+  EXPECT_FALSE(ClothSimConfig::__getDefault__().self_collision);
+  EXPECT_FALSE(SimulationOptions{}.self_contact.enabled);
+}
+
 TEST(ReconfigureCfg, SolverEnumIsTheRegistry) {
   const auto& descriptions = ClothSimConfig::__getParamDescriptions__();
   const auto solver = std::find_if(descriptions.begin(), descriptions.end(),

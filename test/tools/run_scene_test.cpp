@@ -41,7 +41,8 @@ TEST(RunScene, WritesOneCsvRowPerStepAndTheFinalPositions) {
   const std::string table = slurp(csv);
   EXPECT_EQ(countLines(table), 1 + 6);  // header + 0.1 s at h = 1/60
   EXPECT_EQ(table.rfind("step,time,wall_ms,solve_ms,iterations,convergence,converged,max_strain,"
-                        "energy,contacts,status\n", 0), 0u);
+                        "energy,contacts,status,self_contacts,intersections,self_contact_ms,"
+                        "intersection_ms\n", 0), 0u);
   EXPECT_NE(table.find("\n6,0.1,"), std::string::npos);
   EXPECT_NE(table.find(",3,"), std::string::npos);  // the iteration count took effect
   EXPECT_EQ(countLines(slurp(positions)), 1 + 32 * 32);
@@ -65,6 +66,21 @@ TEST(RunScene, SubstepsSplitEachFrameAndTheRowsStayPerFrame) {
   const std::string table = slurp(csv);
   EXPECT_EQ(countLines(table), 1 + 6);
   EXPECT_NE(table.find("\n6,0.1,"), std::string::npos);
+}
+
+TEST(RunScene, FoldScriptCountsIntersectionsAndSelfCollisionSwitches) {
+  const std::string fold = std::string(CLOTH_SIM_SOURCE_DIR) + "/config/scenes/fold.yaml";
+  const std::string on = tmp("fold_on.csv"), off = tmp("fold_off.csv");
+  ASSERT_EQ(run("--scene " + fold + " --resolution 12 --duration 0.5 --fold 0.3 --csv " + on), 0);
+  ASSERT_EQ(run("--scene " + fold + " --resolution 12 --duration 0.1 --self-collision off --csv " +
+                off), 0);
+  // The row ends: ...,status,self_contacts,intersections,self_contact_ms,intersection_ms
+  const std::string with = slurp(on), without = slurp(off);
+  EXPECT_NE(with.find(",ok,"), std::string::npos);
+  EXPECT_EQ(with.find(",-1,"), std::string::npos);   // counted at every step
+  EXPECT_NE(without.find(",ok,0,-1,0,0\n"), std::string::npos) << without;  // not counted
+  EXPECT_EQ(run("--scene " + fold + " --self-collision maybe"), 1);
+  EXPECT_EQ(run("--scene " + kScene + " --fold 1 --duration 0.1"), 0);  // hanging has pins
 }
 
 TEST(RunScene, ARunTooLongToCountIsRefused) {

@@ -10,6 +10,7 @@
 
 #include "cloth_sim/core/io/scene.h"
 #include "cloth_sim/core/settings/settings_table.h"
+#include "fold_script.h"
 #include "step_log.h"
 
 namespace {
@@ -20,7 +21,9 @@ constexpr int kMaxFrames = 100000000;
 struct Options {
   std::string scene_path, solver, linear_solver, integrator, csv, json, positions;
   std::optional<int> iterations, substeps;
-  std::optional<double> dt, tolerance;
+  std::optional<double> dt, tolerance, fold;
+  std::optional<int> resolution;
+  std::string self_collision;
   double duration = 5.0;
   bool quiet = false, warm_start = false;
 };
@@ -79,6 +82,16 @@ int main(int argc, char** argv) {
   app.add_flag("--warm-start", o.warm_start,
                "local_global, chebyshev, anderson, lbfgs: start from y + the previous step's correction");
   app.add_flag("--quiet", o.quiet, "no per-second summary on stdout");
+  app.add_option("--self-collision", o.self_collision,
+                 "on or off (default: the scene's self_collision)")
+      ->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--resolution", o.resolution,
+                 "grid cloth: rows = cols = this; self_collision.thickness becomes automatic")
+      ->check(allowedBy(settings::kGridResolution));
+  app.add_option("--fold", o.fold,
+                 "carry the scene's first pin over the cloth to the vertex farthest from it in "
+                 "this many s, then let go (the fold scene's script)")
+      ->check(inRange(Range::above(0), "> 0 s"));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -95,8 +108,19 @@ int main(int argc, char** argv) {
     overrides.time_step = o.dt;
     if (!o.integrator.empty()) overrides.integrator = integratorFromName(o.integrator);
     if (o.warm_start) overrides.warm_start = true;
-    const SceneConfig scene = applyOverrides(loadSceneFile(o.scene_path), overrides);
+    if (!o.self_collision.empty()) overrides.self_collision = o.self_collision == "on";
+    SceneConfig scene = applyOverrides(loadSceneFile(o.scene_path), overrides);
+    if (o.resolution) {
+      if (scene.cloth_kind != SceneConfig::ClothKind::kGrid) {
+        throw std::invalid_argument("--resolution needs a grid cloth; " + o.scene_path +
+                                    " has a mesh");
+      }
+      scene.grid.rows = scene.grid.cols = *o.resolution;
+      scene.options.self_contact.thickness = 0.0;  // the scene's was for its own spacing
+    }
     Simulation sim = makeSimulation(scene);
+    std::optional<tools::FoldScript> fold;
+    if (o.fold) fold.emplace(sim, *o.fold);
     const double h = sim.frameTime();
     // A count derived from user numbers is checked before it is cast: 1e-10 s frames for 1 s
     // would overflow an int into a run of one step.
@@ -131,6 +155,7 @@ int main(int argc, char** argv) {
     int failures = 0;
     for (int k = 1; k <= steps; ++k) {
       tools::StepRecord record;
+      if (fold) fold->beforeStep(sim);
       record.report = sim.step();
       record.step = k;
       record.time = sim.state().time;

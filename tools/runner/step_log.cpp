@@ -42,7 +42,7 @@ StepLog::StepLog(const std::string& path, Format format) : out_(&std::cout), for
   }
   if (format_ == Format::kCsv) {
     *out_ << "step,time,wall_ms,solve_ms,iterations,convergence,converged,max_strain,energy,"
-             "contacts,status\n";
+             "contacts,status,self_contacts,intersections,self_contact_ms,intersection_ms\n";
   }
 }
 
@@ -70,13 +70,19 @@ void StepLog::write(const StepRecord& r) {
           << ", \"converged\": " << (s.converged ? "true" : "false")
           << ", \"max_strain\": " << number(s.max_strain, true)
           << ", \"energy\": " << number(r.energy, true) << ", \"contacts\": " << s.contacts
-          << ", \"status\": " << quoted(stepStatusName(s.status)) << "}";
+          << ", \"status\": " << quoted(stepStatusName(s.status))
+          << ", \"self_contacts\": " << s.self_contacts
+          << ", \"intersections\": " << s.intersections
+          << ", \"self_contact_ms\": " << number(1e3 * s.self_contact_time, true)
+          << ", \"intersection_ms\": " << number(1e3 * s.intersection_time, true) << "}";
   } else {
     *out_ << r.step << ',' << number(r.time, false) << ',' << number(1e3 * s.wall_time, false)
           << ',' << number(1e3 * s.solve_time, false) << ',' << s.iterations << ','
           << number(s.convergence, false) << ',' << (s.converged ? 1 : 0) << ','
           << number(s.max_strain, false) << ',' << number(r.energy, false) << ',' << s.contacts
-          << ',' << stepStatusName(s.status) << '\n';
+          << ',' << stepStatusName(s.status) << ',' << s.self_contacts << ',' << s.intersections
+          << ',' << number(1e3 * s.self_contact_time, false) << ','
+          << number(1e3 * s.intersection_time, false) << '\n';
   }
   first_ = false;
 }

@@ -9,6 +9,8 @@
 
 #include "cloth_sim/core/collision/colliders.h"
 #include "cloth_sim/core/collision/contact_forces.h"
+#include "cloth_sim/core/collision/self_contact.h"
+#include "cloth_sim/core/collision/triangle_intersection.h"
 #include "cloth_sim/core/model/model.h"
 #include "cloth_sim/core/model/pins.h"
 #include "cloth_sim/core/solvers/solver.h"
@@ -36,6 +38,13 @@ struct StepReport {
   /// Contacts of the frame, summed over its substeps: contact forces that pushed in the solve
   /// plus particles moved out of a collider by the projection after it.
   int contacts = 0;
+  /// Particles moved by self-contact (displacement bound and projection, summed over substeps).
+  int self_contacts = 0;
+  /// Pairs of triangles sharing no vertex that intersect after the step (IntersectionCounter):
+  /// 0 for a cloth that did not pass through itself; -1 = not counted (self-collision off).
+  int intersections = -1;
+  double self_contact_time = 0.0;  ///< s of wall time in self-contact (bound and projection)
+  double intersection_time = 0.0;  ///< s of wall time in the intersection counter
   double max_strain = 0.0;   ///< max |l - r| / r over the springs after the step
   std::string message;       ///< empty when ok; otherwise what went wrong and what was done
 };
@@ -48,6 +57,8 @@ struct SimulationOptions {
   /// 100 (10,000 %) is far above anything an implicit step reaches, even with a pin yanked 1 m
   /// across a 30-particle cloth, and is hit within a few steps by an unstable explicit solver.
   double divergence_strain = 100.0;
+  /// Contact of the cloth with itself (off by default; docs/method.md, "Self-contact").
+  SelfContactSettings self_contact;
 
   /// Throws std::invalid_argument naming the bad field (unknown solver, bad settings, ...).
   void validate() const;
@@ -98,6 +109,11 @@ class Simulation {
   /// Throws if it does not support the current SolverSettings::integrator.
   void setSolver(const std::string& name);
   void setSolverSettings(const SolverSettings& settings);
+  /// Turns self-contact on or off (and sets its thickness and friction); it acts from the next
+  /// substep, and while on each step's report counts the intersecting triangle pairs. Throws
+  /// std::invalid_argument naming the bad field; the automatic thickness is measured on the
+  /// rest positions.
+  void setSelfContact(const SelfContactSettings& settings);
 
   // --- read access ----------------------------------------------------------------------------
   const Model& model() const { return model_; }
@@ -114,6 +130,11 @@ class Simulation {
   int nearestParticle(const Vec3& point) const;
   /// Total energy (J): kinetic + springs + soft pins + gravity potential (zero at z = 0).
   double totalEnergy() const;
+  /// The self-contact in use, or null when it is off.
+  const SelfContact* selfContact() const { return self_contact_.get(); }
+  /// Intersecting pairs of triangles sharing no vertex at the current positions (whether or not
+  /// self-contact is on).
+  int countIntersections();
   /// Numeric factorizations done by all solvers so far.
   int factorizationCount() const;
   /// Bumped when h, a stiffness, a mass or the pin set changes (see SolverInput).
@@ -150,6 +171,8 @@ class Simulation {
   std::uint64_t revision_ = 1;
   std::vector<char> movable_;  ///< false for hard-pinned particles (collisions skip them)
   ContactForces contacts_;     ///< in-solve contact forces, warm-started across steps
+  std::unique_ptr<SelfContact> self_contact_;  ///< null when self-contact is off
+  std::unique_ptr<IntersectionCounter> intersections_;  ///< built at first use
   double frame_time_ = 0.0;    ///< s, see frameTime()
   std::vector<std::pair<int, Vec3>> frame_targets_;  ///< pin id -> target at the last frame's end
   std::vector<SphereJump> sphere_jumps_;

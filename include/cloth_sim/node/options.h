@@ -3,6 +3,7 @@
 /// validated in one place, every error naming its parameter (cartographer_ros style).
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include <xmlrpcpp/XmlRpcValue.h>
@@ -29,6 +30,10 @@ struct NodeOptions {
   /// ~substeps: replaces the scene's implicit steps per frame when > 0; 0 keeps the scene's
   /// (range: settings::kSubsteps).
   int substeps = 0;
+  /// ~self_collision: turns the cloth's self-collision on or off whatever the scene says; unset
+  /// keeps the scene's (its self_collision field; thickness and friction come from there, or
+  /// their defaults). dynamic_reconfigure's self_collision switches it at run time.
+  std::optional<bool> self_collision;
   /// ~max_rollbacks, >= 1: after this many rolled-back (diverged) steps in a row the node
   /// resets the simulation to its initial state (see docs/ros_interface.md, "Divergence").
   int max_rollbacks = 30;

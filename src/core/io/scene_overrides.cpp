@@ -12,6 +12,7 @@ SceneConfig applyOverrides(SceneConfig scene, const SceneOverrides& overrides) {
   if (overrides.warm_start) settings.warm_start = *overrides.warm_start;
   if (overrides.integrator) settings.integrator = *overrides.integrator;
   if (overrides.time_step) scene.time_step = *overrides.time_step;
+  if (overrides.self_collision) scene.options.self_contact.enabled = *overrides.self_collision;
   return scene;
 }
 

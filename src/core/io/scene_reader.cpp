@@ -416,6 +416,26 @@ void readColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) 
   }
 }
 
+/// self_collision: {enabled, thickness, friction}; present = on unless enabled: false.
+void readSelfCollision(const Reader& r, const YAML::Node& node, SelfContactSettings& self) {
+  const std::string path = "self_collision";
+  r.map(node, path, {"enabled", "thickness", "friction"});
+  self.enabled = true;
+  if (node["enabled"]) {
+    try {
+      self.enabled = node["enabled"].as<bool>();
+    } catch (const YAML::Exception&) {
+      r.fail(path + ".enabled", "value " + Reader::show(node["enabled"]) + " must be true or false");
+    }
+  }
+  if (node["thickness"]) {
+    self.thickness = r.number(node["thickness"], path + ".thickness", settings::kSelfThickness);
+  }
+  if (node["friction"]) {
+    self.friction = r.number(node["friction"], path + ".friction", settings::kSelfFriction);
+  }
+}
+
 }  // namespace
 
 SceneConfig parseScene(const std::string& yaml_text, const std::string& source) {
@@ -428,7 +448,7 @@ SceneConfig parseScene(const std::string& yaml_text, const std::string& source) 
   }
   if (!root.IsMap()) r.fail("", "a scene must be a YAML map of fields");
   r.map(root, "", {"name", "description", "time_step", "gravity", "solver", "cloth", "material",
-                   "pins", "colliders", "divergence_strain"});
+                   "pins", "colliders", "divergence_strain", "self_collision"});
 
   SceneConfig scene;
   scene.source = source;
@@ -455,6 +475,9 @@ SceneConfig parseScene(const std::string& yaml_text, const std::string& source) 
   readMaterial(r, root["material"], scene);
   if (root["pins"]) readPins(r, root["pins"], scene);
   if (root["colliders"]) readColliders(r, root["colliders"], scene);
+  if (root["self_collision"]) {
+    readSelfCollision(r, root["self_collision"], scene.options.self_contact);
+  }
   return scene;
 }
 

@@ -85,6 +85,28 @@ TEST(Scene, MinimalSceneHasDocumentedDefaults) {
   EXPECT_EQ(s.gravity, Vec3(0, 0, -9.81));
   EXPECT_EQ(s.damping, 0.0);
   EXPECT_TRUE(s.pins.empty());
+  EXPECT_FALSE(s.options.self_contact.enabled);  // off unless a scene asks
+}
+
+TEST(Scene, SelfCollisionIsOnWhenDeclaredWithItsThicknessAndFriction) {
+  const std::string base = kValid;
+  SceneConfig s = parseScene(base + "self_collision: {thickness: 0.02, friction: 0.4}\n", "on");
+  EXPECT_TRUE(s.options.self_contact.enabled);
+  EXPECT_EQ(s.options.self_contact.thickness, 0.02);
+  EXPECT_EQ(s.options.self_contact.friction, 0.4);
+  s = parseScene(base + "self_collision: {}\n", "defaults");
+  EXPECT_TRUE(s.options.self_contact.enabled);
+  EXPECT_EQ(s.options.self_contact.thickness, 0.0);  // automatic
+  EXPECT_EQ(s.options.self_contact.friction, SelfContactSettings{}.friction);
+  s = parseScene(base + "self_collision: {enabled: false, thickness: 0.02}\n", "off");
+  EXPECT_FALSE(s.options.self_contact.enabled);
+  Simulation sim = makeSimulation(s);
+  EXPECT_EQ(sim.selfContact(), nullptr);
+  const SceneConfig fold = loadSceneFile(test::sourcePath("config/scenes/fold.yaml"));
+  EXPECT_EQ(fold.options.self_contact.thickness, 0.035);
+  EXPECT_EQ(fold.pins.size(), 1u);
+  EXPECT_TRUE(fold.ground.enabled);
+  EXPECT_TRUE(loadSceneFile(test::sourcePath("config/scenes/pile.yaml")).pins.empty());
 }
 
 struct Malformed {
@@ -128,6 +150,14 @@ TEST(Scene, MalformedScenesAreRefusedNamingTheField) {
       {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\ngravity: [0, 0, .nan]",
        "gravity[2]", "finite"},
       {"material: {springs: {shear: 1}}", "cloth", "is required"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\nself_collision: {thickness: -0.01}",
+       "self_collision.thickness", ">= 0 m (0 = the mean rest edge length)"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\nself_collision: {friction: -1}",
+       "self_collision.friction", ">= 0"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\nself_collision: {enabled: maybe}",
+       "self_collision.enabled", "true or false"},
+      {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\nself_collision: {margin: 1}",
+       "self_collision.margin", "unknown field"},
       {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}", "material", "is required"},
       {"solver: {substeps: 0}\ncloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}",
        "solver.substeps", "[1, 1000]"},

@@ -23,6 +23,8 @@ struct SceneOverrides {
   std::optional<double> time_step;              ///< s
   std::optional<bool> warm_start;               ///< SolverSettings::warm_start
   std::optional<Integrator> integrator;         ///< SolverSettings::integrator
+  /// SelfContactSettings::enabled (on with the scene's thickness and friction, or defaults).
+  std::optional<bool> self_collision;
 };
 
 /// @p scene with the non-empty fields of @p overrides in place of its own.

@@ -69,6 +69,8 @@ inline constexpr Setting kSphereRadius{"sphere.radius",         "radius",       
 inline constexpr Setting kSphereMass{"sphere.mass",             "mass",                 Range::atLeast(0),                  false, "kg",     "(0 = kinematic)",   "Mass of a sphere (0: moves at its velocity)",       0};
 inline constexpr Setting kRestitution{"sphere.restitution",     "restitution",          Range::closed(0, 1),                false, "",       "",                  "Share of the normal speed a sphere keeps on impact", 0};
 inline constexpr Setting kFriction{"friction",                  "friction",             Range::atLeast(0),                  false, "",       "",                  "Coulomb friction coefficient mu",                    0};
+inline constexpr Setting kSelfThickness{"self_collision.thickness", "",                Range::atLeast(0),                  false, "m",      "(0 = the mean rest edge length)", "Distance the cloth keeps from itself",   0};
+inline constexpr Setting kSelfFriction{"self_collision.friction", "",                  Range::atLeast(0),                  false, "",       "",                  "Coulomb friction of the cloth on itself",            0};
 // clang-format on
 
 /// Every setting above, in that order.
@@ -77,7 +79,7 @@ inline constexpr const Setting* kAllSettings[] = {
     &kAndersonWindow, &kLbfgsWindow,      &kTimeStep,        &kDivergenceStrain, &kArealDensity,
     &kDamping,     &kStructuralStiffness, &kShearStiffness,  &kBendingStiffness, &kGridResolution,
     &kGridSize,    &kMeshScale,           &kMeshThickness,   &kPinStiffness,     &kSphereRadius,
-    &kSphereMass,  &kRestitution,         &kFriction};
+    &kSphereMass,  &kRestitution,         &kFriction,        &kSelfThickness,    &kSelfFriction};
 }  // namespace settings
 
 }  // namespace cloth_sim

@@ -1,0 +1,99 @@
+/// @file self_contact.h
+/// Contact of a cloth with itself: particles that are not mesh neighbours keep at least a
+/// thickness apart (docs/method.md, "Self-contact").
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cloth_sim/core/collision/cell_hash.h"
+#include "cloth_sim/core/collision/colliders.h"
+#include "cloth_sim/core/linalg/types.h"
+
+namespace cloth_sim {
+
+/// The scene's self_collision option (docs/scene_format.md). Off unless a scene asks.
+struct SelfContactSettings {
+  bool enabled = false;
+  /// Contact distance t (m) between two particles that are not mesh neighbours; 0 = automatic,
+  /// the cloth's mean rest edge length (settings::kSelfThickness). It must be at least about the
+  /// particle spacing s (t >= 0.82 s keeps layers t/2 apart; docs/method.md, "Self-contact").
+  double thickness = 0.0;
+  /// Coulomb coefficient mu of cloth on cloth (settings::kSelfFriction): the tangential slide of
+  /// two particles in contact is cut by mu times the normal correction.
+  double friction = 0.3;
+
+  /// Throws std::invalid_argument "self_collision.<field> = <value> must be <rule>".
+  void validate() const;
+};
+
+/// Particle-particle self-contact by projection (Muller et al. 2007 "Position based dynamics",
+/// with the thickness of Macklin et al. 2014 "Unified particle physics", section 7.1), run after
+/// the solve and the collider projection of every substep:
+///
+/// 1. limitDisplacement: no movable particle moves more than 0.3 t in a substep, so two
+///    particles approach by at most 0.6 t, less than the 0.71 t gap that a layer leaves between
+///    itself and another resting on it when t >= s; a particle cannot cross a layer between two
+///    substeps unseen (the bound, instead of continuous detection).
+/// 2. resolve: the candidate pairs are found with a CellHash (a Verlet list: rebuilt when a
+///    particle has moved 0.2 t since the last build, pairs within d + 0.5 t); each pair closer
+///    than its contact distance and not sharing a triangle is pushed apart along the
+///    line between them, shared by inverse mass (hard-pinned particles do not move), with
+///    Coulomb friction on their relative slide over the substep; four Gauss-Seidel sweeps, each
+///    followed by the ground clamp (the ground stays the last word). A pair closer than t at
+///    rest is never a contact (its springs keep it apart); the others touch at
+///    d = min(t, 0.8 rest distance), so a compressed cloth does not push itself apart.
+///
+/// Velocities get the change of position over h, so they stay consistent with the positions.
+class SelfContact {
+ public:
+  /// @p triangles: the cloth's triangles (mesh neighbours are never in contact); @p rest: rest
+  /// positions (m), which give the automatic thickness and the rest distance of each pair.
+  SelfContact(const Eigen::Matrix3Xi& triangles, const Points& rest,
+              const SelfContactSettings& settings);
+
+  /// The contact distance t in use (m): the setting, or the mean rest edge length.
+  double thickness() const { return thickness_; }
+  double friction() const { return friction_; }
+  /// Largest displacement (m) of a particle in one substep: 0.3 t.
+  double maxDisplacement() const { return 0.3 * thickness_; }
+
+  /// Shortens the displacement end - start of every movable particle to maxDisplacement();
+  /// velocities change by the change of position over h. Returns the particles shortened.
+  int limitDisplacement(const CollisionStep& step, Points& end, Points& velocities) const;
+
+  /// Pushes apart the particles in contact (see the class); @p ground is clamped after each
+  /// sweep when enabled. Returns the particles moved.
+  int resolve(const CollisionStep& step, const GroundPlane& ground, Points& end,
+              Points& velocities);
+
+  /// The pairs (i < j) of non-neighbour particles closer than their contact distance at
+  /// @p positions (for tests; the same search as resolve).
+  std::vector<std::pair<int, int>> contacts(const Points& positions);
+  /// How many times resolve has rebuilt its pair list (for tests and the benchmark).
+  long rebuilds() const { return rebuilds_; }
+
+ private:
+  bool neighbours(int i, int j) const;
+  /// Fills pairs_ with the candidate pairs within their contact distance plus @p margin.
+  void findPairs(const Points& x, double margin);
+
+  double thickness_ = 0.0;
+  double friction_ = 0.0;
+  Points rest_;
+  std::vector<int> ring_start_, ring_;  ///< CSR: the sorted 1-ring of each particle
+  CellHash hash_;
+  struct Pair {
+    int i, j;
+    double distance;  ///< contact distance d (m)
+  };
+  std::vector<Pair> pairs_;
+  std::vector<Pair> active_;  ///< the pairs near contact in this substep
+  Points built_at_;           ///< positions pairs_ was built at (empty: none)
+  long rebuilds_ = 0;
+  Points before_;
+};
+
+}  // namespace cloth_sim
