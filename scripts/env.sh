@@ -1,4 +1,4 @@
-# Sourced by the other scripts: workspace location and the Python fix of ROS_ON_DEBIAN.md.
+# Sourced by the other scripts: workspace location, and /usr/bin first on PATH (below).
 # The catkin workspace lives inside the repository (.catkin_ws/, ignored by git); its src/
 # holds one symlink back to the repository root, which is the cloth_sim package.
 REPO_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"

@@ -148,7 +148,8 @@ TEST(LoadScene, LoadsAShippedSceneByNameAndAppliesTheOverrides) {
   SceneConfig scene = loadScene(o, kSceneDir);
   EXPECT_EQ(scene.grid.rows, 32);
   EXPECT_EQ(scene.options.solver, "local_global");
-  EXPECT_EQ(scene.options.settings.max_iterations, 10);  // hanging.yaml
+  EXPECT_EQ(scene.options.settings.max_iterations, 3);  // hanging.yaml
+  EXPECT_EQ(scene.options.settings.substeps, 32);
 
   o.solver = "chebyshev";
   o.iterations = 40;
