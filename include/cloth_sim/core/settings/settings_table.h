@@ -69,6 +69,10 @@ inline constexpr Setting kSphereRadius{"sphere.radius",         "radius",       
 inline constexpr Setting kSphereMass{"sphere.mass",             "mass",                 Range::atLeast(0),                  false, "kg",     "(0 = kinematic)",   "Mass of a sphere (0: moves at its velocity)",       0};
 inline constexpr Setting kRestitution{"sphere.restitution",     "restitution",          Range::closed(0, 1),                false, "",       "",                  "Share of the normal speed a sphere keeps on impact", 0};
 inline constexpr Setting kFriction{"friction",                  "friction",             Range::atLeast(0),                  false, "",       "",                  "Coulomb friction coefficient mu",                    0};
+inline constexpr Setting kGraspRadius{"grasp.radius",          "",                     Range::atLeast(0),                  false, "m",      "(0 = the nearest free particle)", "Particles within this of a grasp point are held", 0};
+inline constexpr Setting kRealTimeFactor{"real_time_factor",    "real_time_factor",     Range::closed(0, 1000),             false, "",       "(0 = as fast as possible)", "Simulated seconds per wall-clock second",     0};
+inline constexpr Setting kGraspFrameTimeout{"grasp_frame_timeout", "grasp_frame_timeout", Range::above(0),                  false, "s",      "",                  "A grasp frame whose latest transform is older is stale", 0};
+inline constexpr Setting kForceArrowScale{"force_arrow_scale",  "force_arrow_scale",    Range::atLeast(0),                  false, "m/N",    "",                  "Length of a grasp's force arrow per newton",        0};
 // clang-format on
 
 /// Every setting above, in that order.
@@ -77,7 +81,8 @@ inline constexpr const Setting* kAllSettings[] = {
     &kAndersonWindow, &kLbfgsWindow,      &kTimeStep,        &kDivergenceStrain, &kArealDensity,
     &kDamping,     &kStructuralStiffness, &kShearStiffness,  &kBendingStiffness, &kGridResolution,
     &kGridSize,    &kMeshScale,           &kMeshThickness,   &kPinStiffness,     &kSphereRadius,
-    &kSphereMass,  &kRestitution,         &kFriction};
+    &kSphereMass,  &kRestitution,         &kFriction,        &kGraspRadius,      &kRealTimeFactor,
+    &kGraspFrameTimeout, &kForceArrowScale};
 }  // namespace settings
 
 }  // namespace cloth_sim
