@@ -13,6 +13,10 @@ add_library(cloth_sim_ros
   src/node/step_monitor.cpp
   src/node/log_throttle.cpp
   src/node/pin_handles.cpp
+  src/node/sim_clock.cpp
+  src/node/grasp_frames.cpp
+  src/node/grasp_output.cpp
+  src/node/point_cloud.cpp
 )
 target_include_directories(cloth_sim_ros PUBLIC include)
 target_link_libraries(cloth_sim_ros PUBLIC cloth_sim_core ${catkin_LIBRARIES})
@@ -23,6 +27,8 @@ add_executable(cloth_sim_node
   src/node/cloth_sim_node_main.cpp
   src/node/cloth_sim_node.cpp
   src/node/node_inputs.cpp
+  src/node/node_time.cpp
+  src/node/node_grasps.cpp
 )
 target_link_libraries(cloth_sim_node cloth_sim_ros)
 
@@ -44,7 +50,7 @@ install(DIRECTORY launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 if(CATKIN_ENABLE_TESTING)
   set(NODE_UNIT_TESTS
     options_test conversions_test frame_resolver_test marker_builder_test step_monitor_test
-    pin_handles_test reconfigure_cfg_test)
+    pin_handles_test reconfigure_cfg_test grasp_frames_test grasp_output_test)
   foreach(t ${NODE_UNIT_TESTS})
     catkin_add_gtest(node_${t} test/node/${t}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
     target_link_libraries(node_${t} cloth_sim_ros GTest::gtest_main)
@@ -60,7 +66,7 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(cloth_sim_rostest_util PUBLIC cloth_sim_ros GTest::gtest)
   target_compile_definitions(cloth_sim_rostest_util PUBLIC
                              CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-  set(NODE_ROSTESTS integration bad_input reconfigure)
+  set(NODE_ROSTESTS integration bad_input reconfigure grasp)
   foreach(t ${NODE_ROSTESTS})
     add_rostest_gtest(node_${t}_test test/node/${t}.test test/node/${t}_test.cpp)
     target_link_libraries(node_${t}_test cloth_sim_rostest_util)

@@ -14,6 +14,13 @@
 namespace cloth_sim {
 namespace {
 
+/// @p v in scientific notation, for RecordProperty (std::to_string would print 1e-13 as 0).
+std::string sci(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", v);
+  return text;
+}
+
 constexpr int kSide = 8;
 
 std::string number(double v) {
@@ -56,7 +63,7 @@ TEST(Grasp, ClothHangingAtRestPullsWithItsWeightAtConvergence) {
   sim.addGrasp(topRow(), Pose::Identity());
   for (int k = 0; k < 600; ++k) ASSERT_EQ(sim.step().status, StepStatus::kOk);
   const double error = relativeError(graspForce(sim), weight(sim));
-  RecordProperty("newton_relative_error", std::to_string(error));
+  RecordProperty("newton_relative_error", sci(error));
   std::printf("[measured] newton at rest: |F - W| / W = %.3g\n", error);
   EXPECT_LT(error, 1e-6) << graspForce(sim).transpose();
 }
@@ -70,7 +77,7 @@ TEST(Grasp, LocalGlobalToConvergenceAlsoGivesTheWeight) {
   sim.setSolverSettings(test::convergedSettings(100000, 1e-11));
   for (int k = 0; k < 3; ++k) ASSERT_EQ(sim.step().status, StepStatus::kOk);
   const double error = relativeError(graspForce(sim), weight(sim));
-  RecordProperty("local_global_relative_error", std::to_string(error));
+  RecordProperty("local_global_relative_error", sci(error));
   std::printf("[measured] local_global to 1e-11 at rest: |F - W| / W = %.3g\n", error);
   EXPECT_LT(error, 1e-6) << graspForce(sim).transpose();
 }
@@ -89,7 +96,7 @@ TEST(Grasp, DefaultConfigurationErrorIsStated) {
     if (k >= 480) mean += total / 120.0;
   }
   const double error = relativeError(total, weight(sim)), mean_error = relativeError(mean, weight(sim));
-  RecordProperty("hanging_default_relative_error", std::to_string(error));
+  RecordProperty("hanging_default_relative_error", sci(error));
   std::printf("[measured] hanging scene, default settings: |F - W| / W = %.3g at t = 10 s, %.3g "
               "for F averaged over t = 8..10 s\n", error, mean_error);
   EXPECT_LT(error, 0.1);
@@ -127,7 +134,7 @@ TEST(Grasp, ClothLiftedAtConstantAccelerationPullsWithMassTimesGPlusA) {
   const double drag = v * (1.0 - std::exp(-sim.model().damping * h)) / h;  // m/s^2
   const Vec3 expected = sim.model().mass.sum() * (sim.model().gravity - Vec3(0, 0, a + drag));
   const double error = relativeError(graspForce(sim), expected);
-  RecordProperty("lifted_relative_error", std::to_string(error));
+  RecordProperty("lifted_relative_error", sci(error));
   std::printf("[measured] lifted (local_global 4 x 10): |F - m (g + a + drag)| / |m (g + a + drag)| = %.3g\n", error);
   EXPECT_LT(error, 0.01) << graspForce(sim).transpose() << " vs " << expected.transpose();
 }
