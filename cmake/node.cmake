@@ -39,6 +39,10 @@ target_link_libraries(cloth_sim_teleop PUBLIC cloth_sim_ros)
 add_executable(pin_teleop tools/pin_teleop/pin_teleop_main.cpp)
 target_link_libraries(pin_teleop cloth_sim_teleop)
 
+# The grasp demo's scripted gripper (launch/grasp_demo.launch).
+catkin_install_python(PROGRAMS tools/gripper/scripted_gripper.py
+  DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
 install(TARGETS cloth_sim_ros cloth_sim_node pin_teleop
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
@@ -74,4 +78,6 @@ if(CATKIN_ENABLE_TESTING)
                                CLOTH_SIM_NODE_EXE="$<TARGET_FILE:cloth_sim_node>")
     add_dependencies(node_${t}_test cloth_sim_node)
   endforeach()
+  # The grasp demo as users launch it, headless; the check is a Python script (no build).
+  add_rostest(test/node/grasp_demo.test DEPENDENCIES cloth_sim_node)
 endif()

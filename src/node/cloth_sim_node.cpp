@@ -163,7 +163,7 @@ void ClothSimNode::stepFrame() {
 }
 
 void ClothSimNode::render(const ros::SteadyTimerEvent&) {
-  if (pin_handles_) pin_handles_->sync(sim_.pins().pins());
+  if (pin_handles_) pin_handles_->sync(handledPins());
   if (points_pub_.getNumSubscribers() > 0) {  // built only for a subscriber
     std_msgs::Header header;
     header.stamp = simStamp();
@@ -197,6 +197,19 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
   appendGraspMarkers(sim_.grasps(), grasp_frames_, options_.force_arrow_scale, header,
                      shown_grasps_, build.markers);
   markers_pub_.publish(build.markers);
+}
+
+std::vector<Pin> ClothSimNode::handledPins() const {
+  // A grasp's pins follow its frame: a handle on them would only be refused.
+  std::vector<Pin> pins;
+  for (const Pin& pin : sim_.pins().pins()) {
+    bool grasped = false;
+    for (const Grasp& g : sim_.grasps()) {
+      grasped = grasped || std::find(g.pin_ids.begin(), g.pin_ids.end(), pin.id) != g.pin_ids.end();
+    }
+    if (!grasped) pins.push_back(pin);
+  }
+  return pins;
 }
 
 void ClothSimNode::resetSimulation(const std::string& why, bool automatic) {

@@ -70,6 +70,8 @@ class ClothSimNode {
   ClothSimConfig currentConfig() const;
   /// Back to the initial state; @p why goes to the log (throttled when @p automatic).
   void resetSimulation(const std::string& why, bool automatic);
+  /// The pins that get drag handles: all but the grasps' (their frame moves them).
+  std::vector<Pin> handledPins() const;
   /// Removes the spheres that flew beyond ~sphere_cull_distance.
   void cullSpheres();
   /// Logs "<where>: <why>" as a warning, at most once per few seconds per distinct text.
