@@ -31,6 +31,7 @@ add_library(cloth_sim_core
   src/core/solvers/solver.cpp
   src/core/solvers/registry.cpp
   src/core/solvers/implicit_euler_problem.cpp
+  src/core/solvers/pin_reactions.cpp
   src/core/solvers/newton_solver.cpp
   src/core/solvers/local_global/local_step.cpp
   src/core/solvers/local_global/global_system.cpp
@@ -81,7 +82,7 @@ if(CATKIN_ENABLE_TESTING)
     solvers/local_global/local_step_test solvers/local_global/global_system_test
     solvers/local_global/local_global_solver_test
     solvers/baselines/explicit_solvers_test solvers/baselines/local_global_3n_solver_test
-    simulation_test substeps_test io/scene_test settings/settings_table_test)
+    simulation_test substeps_test grasp_test io/scene_test settings/settings_table_test)
   foreach(path ${CORE_TESTS})
     get_filename_component(t ${path} NAME)
     catkin_add_gtest(${t} test/core/${path}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

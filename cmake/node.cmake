@@ -13,6 +13,10 @@ add_library(cloth_sim_ros
   src/node/step_monitor.cpp
   src/node/log_throttle.cpp
   src/node/pin_handles.cpp
+  src/node/sim_clock.cpp
+  src/node/grasp_frames.cpp
+  src/node/grasp_output.cpp
+  src/node/point_cloud.cpp
 )
 target_include_directories(cloth_sim_ros PUBLIC include)
 target_link_libraries(cloth_sim_ros PUBLIC cloth_sim_core ${catkin_LIBRARIES})
@@ -23,6 +27,8 @@ add_executable(cloth_sim_node
   src/node/cloth_sim_node_main.cpp
   src/node/cloth_sim_node.cpp
   src/node/node_inputs.cpp
+  src/node/node_time.cpp
+  src/node/node_grasps.cpp
 )
 target_link_libraries(cloth_sim_node cloth_sim_ros)
 
@@ -32,6 +38,10 @@ target_include_directories(cloth_sim_teleop PUBLIC tools/pin_teleop)
 target_link_libraries(cloth_sim_teleop PUBLIC cloth_sim_ros)
 add_executable(pin_teleop tools/pin_teleop/pin_teleop_main.cpp)
 target_link_libraries(pin_teleop cloth_sim_teleop)
+
+# The grasp demo's scripted gripper (launch/grasp_demo.launch).
+catkin_install_python(PROGRAMS tools/gripper/scripted_gripper.py
+  DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
 install(TARGETS cloth_sim_ros cloth_sim_node pin_teleop
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
@@ -44,7 +54,7 @@ install(DIRECTORY launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 if(CATKIN_ENABLE_TESTING)
   set(NODE_UNIT_TESTS
     options_test conversions_test frame_resolver_test marker_builder_test step_monitor_test
-    pin_handles_test reconfigure_cfg_test)
+    pin_handles_test reconfigure_cfg_test grasp_frames_test grasp_output_test)
   foreach(t ${NODE_UNIT_TESTS})
     catkin_add_gtest(node_${t} test/node/${t}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
     target_link_libraries(node_${t} cloth_sim_ros GTest::gtest_main)
@@ -60,7 +70,7 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(cloth_sim_rostest_util PUBLIC cloth_sim_ros GTest::gtest)
   target_compile_definitions(cloth_sim_rostest_util PUBLIC
                              CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-  set(NODE_ROSTESTS integration bad_input reconfigure)
+  set(NODE_ROSTESTS integration bad_input reconfigure grasp)
   foreach(t ${NODE_ROSTESTS})
     add_rostest_gtest(node_${t}_test test/node/${t}.test test/node/${t}_test.cpp)
     target_link_libraries(node_${t}_test cloth_sim_rostest_util)
@@ -68,4 +78,6 @@ if(CATKIN_ENABLE_TESTING)
                                CLOTH_SIM_NODE_EXE="$<TARGET_FILE:cloth_sim_node>")
     add_dependencies(node_${t}_test cloth_sim_node)
   endforeach()
+  # The grasp demo as users launch it, headless; the check is a Python script (no build).
+  add_rostest(test/node/grasp_demo.test DEPENDENCIES cloth_sim_node)
 endif()

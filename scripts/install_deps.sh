@@ -9,12 +9,15 @@ PACKAGES=(
   python3-roslaunch rosbash ros-message-generation ros-message-runtime
   # message packages and tf2
   libstd-msgs-dev libstd-srvs-dev libgeometry-msgs-dev libvisualization-msgs-dev
+  libsensor-msgs-dev libros-rosgraph-msgs-dev
   libtf2-ros-dev tf2-tools libtf2-eigen-dev
   # node extras
   libinteractive-markers-dev libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   libdiagnostic-updater-dev rviz librviz-dev
   # Python message modules, so rostopic / rosservice can show the node's topics and services
   python3-visualization-msgs python3-std-srvs python3-diagnostic-msgs
+  # the grasp demo's scripted gripper and its test (Python, /usr/bin/python3)
+  python3-rospy python3-tf2-ros python3-tf2-msgs python3-geometry-msgs python3-sensor-msgs python3-yaml
   # core libraries
   libeigen3-dev libyaml-cpp-dev libtinyobjloader-dev libcli11-dev libsuitesparse-dev
   # optimized BLAS for CHOLMOD's supernodal factorization (Newton): 3-4x the reference BLAS

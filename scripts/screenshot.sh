@@ -2,10 +2,13 @@
 # Runs the demo under Xvfb (no display needed) and saves an RViz screenshot.
 #   scripts/screenshot.sh SCENE [WAIT_S] [OUT.png]
 # WAIT_S (default 10) is how long the scene runs before the picture; OUT defaults to
-# docs/images/SCENE.png. Build first (make build). Uses its own ROS master port.
+# docs/images/SCENE.png. LAUNCH (default demo.launch) picks the launch file, e.g.
+#   LAUNCH=grasp_demo.launch scripts/screenshot.sh grasp_demo 7
+# Build first (make build). Uses its own ROS master port.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
 SCENE="${1:-hanging}"
+LAUNCH="${LAUNCH:-demo.launch}"
 WAIT="${2:-10}"
 OUT="$(realpath -m "${3:-$REPO_ROOT/docs/images/$SCENE.png}")"
 mkdir -p "$(dirname "$OUT")"
@@ -18,13 +21,13 @@ export ROS_MASTER_URI="http://localhost:$PORT"
 LOG="$(mktemp /tmp/cloth_sim_screenshot.XXXXXX.log)"
 
 xvfb-run -a -s "-screen 0 1024x720x24" bash -c '
-  roslaunch -p "$0" cloth_sim demo.launch scene:="$1" rviz:=true >"$4" 2>&1 &
+  roslaunch -p "$0" cloth_sim "$5" scene:="$1" rviz:=true >"$4" 2>&1 &
   launch=$!
   sleep "$2"
   import -window root "$3"
   kill -INT "$launch"
   wait "$launch" || true
-' "$PORT" "$SCENE" "$WAIT" "$OUT" "$LOG"
+' "$PORT" "$SCENE" "$WAIT" "$OUT" "$LOG" "$LAUNCH"
 
 if [ ! -s "$OUT" ]; then
   echo "[screenshot] no image; roslaunch log: $LOG" >&2

@@ -1,5 +1,6 @@
 #include "cloth_sim/core/simulation.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -58,6 +59,7 @@ Simulation::Simulation(Model model, const Points& rest_positions, PinSet pins,
   solver_ = makeSolver(options_.solver);
   rebuildMovableMask();
   if (options_.self_contact.enabled) setSelfContact(options_.self_contact);
+  clearLoads();
 }
 
 void Simulation::rebuildMovableMask() {
@@ -82,6 +84,9 @@ StepReport Simulation::step() {
   StepReport report;
   for (int k = 1; k <= n; ++k) {
     if (pins_moved) interpolatePins(static_cast<double>(k) / n, pins_at);
+    // A grasp's frame is asked where it is at the end of each substep, so a moving gripper
+    // carries the cloth continuously, not in one jump a frame.
+    if (!grasps_.empty()) placeGrasps(state_.time + model_.time_step, pins_moved ? &pins_at : nullptr);
     substep(pins_moved ? pins_at : pins_, report);
   }
   report.max_strain = maxStrain(model_.springs, state_.positions);
@@ -103,10 +108,12 @@ StepReport Simulation::step() {
         << " (cloth and dynamic spheres)";
     report.message = msg.str();
     rollBack(before, colliders_before);
+    clearLoads();
     report.max_strain = maxStrain(model_.springs, state_.positions);
   } else {
     applySphereJumps(-1.0);
   }
+  updateGraspWrenches();
   sphere_jumps_.clear();
   frame_targets_.clear();
   for (const Pin& pin : pins_.pins()) frame_targets_.emplace_back(pin.id, pin.target);
@@ -122,8 +129,11 @@ StepReport Simulation::step() {
 
 void Simulation::substep(const PinSet& pins, StepReport& report) {
   const double h = model_.time_step;
+  const bool loads = !pins.empty();
+  if (loads) reactions_.begin(model_, pins, state_, options_.settings.integrator);
   if (colliders_.empty() && !self_contact_) {  // nothing to collide with: no start state to keep
     solve(SolverInput{model_, pins, revision_, nullptr}, report);
+    if (loads) reactions_.finish(model_, pins, state_.positions, pin_loads_);
     return;
   }
   const Points start = state_.positions, start_velocities = state_.velocities;
@@ -131,6 +141,8 @@ void Simulation::substep(const PinSet& pins, StepReport& report) {
   const CollisionStep collision{h, model_.mass, movable_, start, &start_velocities, model_.gravity};
   contacts_.beginStep(collision, colliders_);
   const SolveResult solved = solve(SolverInput{model_, pins, revision_, &contacts_}, report);
+  // The loads of the solve itself, before the collision response moves soft-pinned particles.
+  if (loads) reactions_.finish(model_, pins, state_.positions, pin_loads_);
   // Only a solver that solved the contacts this step has fresh ball positions to hand over.
   if (solved.used_contacts) {
     contacts_.finish(colliders_);
@@ -205,6 +217,11 @@ void Simulation::rollBack(const State& state, const Colliders& colliders) {
 
 void Simulation::reset() {
   state_ = initial_state_;
+  // A fresh solver and warm start: nothing of the run before leaks into the one after.
+  retired_factorizations_ += solver_->factorizationCount();
+  solver_ = makeSolver(options_.solver);
+  contacts_ = ContactForces();
+  grasps_.clear();
   if (pins_.size() != initial_pins_.size()) ++revision_;
   else {
     for (std::size_t k = 0; k < pins_.size(); ++k) {
@@ -220,6 +237,7 @@ void Simulation::reset() {
   frame_targets_.clear();
   sphere_jumps_.clear();
   rebuildMovableMask();
+  clearLoads();
 }
 
 int Simulation::addPin(int vertex, const Vec3& target, double stiffness) {
@@ -227,6 +245,7 @@ int Simulation::addPin(int vertex, const Vec3& target, double stiffness) {
   ++revision_;
   state_.has_previous = false;  // the new pin's particle has no BDF2 history on its target
   rebuildMovableMask();
+  clearLoads();
   return id;
 }
 
@@ -238,13 +257,18 @@ int Simulation::addPinHere(int vertex, double stiffness) {
 }
 
 void Simulation::removePin(int id) {
+  requireNotGrasped(id, "removed");
   pins_.remove(id);
   ++revision_;
   state_.has_previous = false;
   rebuildMovableMask();
+  clearLoads();
 }
 
-void Simulation::movePin(int id, const Vec3& target) { pins_.moveTarget(id, target); }
+void Simulation::movePin(int id, const Vec3& target) {
+  requireNotGrasped(id, "moved");
+  pins_.moveTarget(id, target);
+}
 
 int Simulation::addSphere(const SphereCollider& sphere) { return colliders_.addSphere(sphere); }
 
@@ -355,6 +379,110 @@ double Simulation::totalEnergy() const {
 
 int Simulation::factorizationCount() const {
   return retired_factorizations_ + solver_->factorizationCount();
+}
+
+}  // namespace cloth_sim
+
+// --- grasps ----------------------------------------------------------------------------------
+namespace cloth_sim {
+
+void Simulation::clearLoads() { pin_loads_.assign(pins_.size(), Vec3::Zero()); }
+
+void Simulation::requireNotGrasped(int id, const char* what) const {
+  for (const Grasp& g : grasps_) {
+    for (int pin_id : g.pin_ids) {
+      if (pin_id == id) {
+        throw std::invalid_argument("pin " + std::to_string(id) + " belongs to grasp " +
+                                    std::to_string(g.id) + " and cannot be " + what +
+                                    " on its own (release the grasp)");
+      }
+    }
+  }
+}
+
+const Grasp* Simulation::findGrasp(int id) const {
+  for (const Grasp& g : grasps_) {
+    if (g.id == id) return &g;
+  }
+  return nullptr;
+}
+
+int Simulation::addGrasp(const std::vector<int>& vertices, const Pose& pose) {
+  if (vertices.empty()) throw std::invalid_argument("grasp: no particle to hold");
+  if (!pose.matrix().allFinite()) throw std::invalid_argument("grasp: the frame's pose is not finite");
+  const int n = model_.particleCount();
+  for (std::size_t k = 0; k < vertices.size(); ++k) {
+    const int v = vertices[k];
+    if (v < 0 || v >= n) {
+      throw std::invalid_argument("grasp: vertex " + std::to_string(v) + " is out of range [0, " +
+                                  std::to_string(n) + ")");
+    }
+    if (const Pin* pin = pins_.findByVertex(v)) {
+      throw std::invalid_argument("grasp: vertex " + std::to_string(v) + " is already pinned (pin " +
+                                  std::to_string(pin->id) + ")");
+    }
+    for (std::size_t j = 0; j < k; ++j) {
+      if (vertices[j] == v) {
+        throw std::invalid_argument("grasp: vertex " + std::to_string(v) + " is listed twice");
+      }
+    }
+  }
+  // Checked above, so adding the pins cannot fail half way.
+  Grasp g;
+  g.id = next_grasp_id_++;
+  g.vertices = vertices;
+  g.pose = pose;
+  g.local.resize(3, static_cast<Eigen::Index>(vertices.size()));
+  const Pose to_local = pose.inverse();
+  for (std::size_t k = 0; k < vertices.size(); ++k) {
+    const Vec3 x = state_.positions.col(vertices[k]);
+    g.local.col(static_cast<Eigen::Index>(k)) = to_local * x;
+    g.pin_ids.push_back(pins_.add(vertices[k], x, 0.0, n));
+  }
+  grasps_.push_back(std::move(g));
+  ++revision_;
+  state_.has_previous = false;
+  rebuildMovableMask();
+  clearLoads();
+  return grasps_.back().id;
+}
+
+void Simulation::removeGrasp(int id) {
+  auto it = std::find_if(grasps_.begin(), grasps_.end(), [id](const Grasp& g) { return g.id == id; });
+  if (it == grasps_.end()) throw std::invalid_argument("no grasp with id " + std::to_string(id));
+  for (int pin_id : it->pin_ids) pins_.remove(pin_id);
+  grasps_.erase(it);
+  ++revision_;
+  state_.has_previous = false;
+  rebuildMovableMask();
+  clearLoads();
+}
+
+void Simulation::placeGrasps(double time, PinSet* pins_at) {
+  for (Grasp& g : grasps_) {
+    if (pose_source_) {
+      const Pose pose = pose_source_(g.id, time);
+      if (pose.matrix().allFinite()) g.pose = pose;  // a bad answer keeps the last pose
+    }
+    for (std::size_t k = 0; k < g.pin_ids.size(); ++k) {
+      const Vec3 target = g.pose * Vec3(g.local.col(static_cast<Eigen::Index>(k)));
+      pins_.moveTarget(g.pin_ids[k], target);
+      if (pins_at != nullptr) pins_at->moveTarget(g.pin_ids[k], target);
+    }
+  }
+}
+
+void Simulation::updateGraspWrenches() {
+  for (Grasp& g : grasps_) {
+    g.wrench = Wrench();
+    const Vec3 origin = g.pose.translation();
+    for (std::size_t p = 0; p < pins_.size(); ++p) {
+      const Pin& pin = pins_.pins()[p];
+      if (std::find(g.pin_ids.begin(), g.pin_ids.end(), pin.id) == g.pin_ids.end()) continue;
+      g.wrench.force += pin_loads_[p];
+      g.wrench.torque += (Vec3(state_.positions.col(pin.vertex)) - origin).cross(pin_loads_[p]);
+    }
+  }
 }
 
 }  // namespace cloth_sim

@@ -4,12 +4,16 @@
 #include <cmath>
 #include <cstdio>
 
+#include <rosgraph_msgs/Clock.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <cloth_sim/ClothState.h>
 
 #include "cloth_sim/core/model/strain_field.h"
 #include "cloth_sim/node/conversions.h"
+#include "cloth_sim/node/grasp_output.h"
+#include "cloth_sim/node/point_cloud.h"
 
 namespace cloth_sim::node {
 namespace {
@@ -37,6 +41,11 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       monitor_(sim_.frameTime(), options_.max_rollbacks),
       tf_listener_(tf_buffer_),
       frames_(tf_buffer_, options_.frame_id),
+      grasp_frames_(tf_buffer_, options_.frame_id, options_.grasp_frame_timeout),
+      // With ~publish_clock the node owns ROS time: simulated time 0 is ROS time 1 s, because
+      // a ROS time of 0 means "no time yet" to ROS nodes and "the latest" to tf2.
+      clock_(options_.publish_clock ? ros::Time(1, 0) : ros::Time::now()),
+      paused_(options_.start_paused),
       nh_(nh),
       pnh_(pnh),
       diagnostics_(nh, pnh) {
@@ -49,6 +58,14 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
 
   markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("cloth/markers", 2);
   state_pub_ = nh_.advertise<ClothState>("cloth/state", 10);
+  points_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("cloth/points", 2);
+  if (options_.publish_clock) {
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10, /*latch=*/true);
+    if (!ros::Time::isSimTime()) {
+      ROS_WARN("~publish_clock is true but /use_sim_time is not: this node and the others keep "
+               "the wall time (set /use_sim_time true before the nodes start)");
+    }
+  }
   pin_move_sub_ = nh_.subscribe("cloth/pin_move", 20, &ClothSimNode::onPinMove, this);
   services_ = {
       nh_.advertiseService("cloth/spawn_sphere", &ClothSimNode::onSpawnSphere, this),
@@ -56,7 +73,16 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       nh_.advertiseService("cloth/add_pin", &ClothSimNode::onAddPin, this),
       nh_.advertiseService("cloth/remove_pin", &ClothSimNode::onRemovePin, this),
       nh_.advertiseService("cloth/reset", &ClothSimNode::onReset, this),
+      nh_.advertiseService("cloth/grasp", &ClothSimNode::onGrasp, this),
+      nh_.advertiseService("cloth/release", &ClothSimNode::onRelease, this),
+      nh_.advertiseService("cloth/pause", &ClothSimNode::onPause, this),
+      nh_.advertiseService("cloth/unpause", &ClothSimNode::onUnpause, this),
+      nh_.advertiseService("cloth/step", &ClothSimNode::onStep, this),
   };
+  // Each substep asks where the grasp frames are at its own simulated time.
+  sim_.setGraspPoseSource(
+      [this](int id, double t) { return grasp_frames_.poseAt(id, clock_.stamp(t)); });
+  publishClock();
 
   diagnostics_.setHardwareID("cloth_sim:" + scene_name_);
   diagnostics_.add("simulation step", this, &ClothSimNode::diagnose);
@@ -78,7 +104,10 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
 
   window_start_ = ros::SteadyTime::now();
   const double h = sim_.frameTime();
-  step_timer_ = nh_.createSteadyTimer(ros::WallDuration(h), &ClothSimNode::step, this);
+  // A frame per tick; at ~real_time_factor 0 the ticks come back to back (other callbacks still
+  // run between them: one spinner thread, one queue).
+  const double period = options_.real_time_factor > 0.0 ? h / options_.real_time_factor : 1e-5;
+  step_timer_ = nh_.createSteadyTimer(ros::WallDuration(period), &ClothSimNode::step, this);
   render_timer_ = nh_.createSteadyTimer(ros::WallDuration(1.0 / options_.render_rate),
                                         &ClothSimNode::render, this);
   diagnostics_timer_ =
@@ -97,6 +126,11 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
 }
 
 void ClothSimNode::step(const ros::SteadyTimerEvent&) {
+  if (!paused_) stepFrame();
+}
+
+void ClothSimNode::stepFrame() {
+  if (!options_.publish_clock) clock_.anchor(ros::Time::now(), sim_.state().time + sim_.frameTime());
   last_report_ = sim_.step();
   ++steps_since_reset_;
   const bool rolled_back = last_report_.status != StepStatus::kOk;
@@ -104,14 +138,18 @@ void ClothSimNode::step(const ros::SteadyTimerEvent&) {
   else window_sim_time_ += sim_.frameTime();
   const bool must_reset = monitor_.record(rolled_back, last_report_.wall_time);
 
+  std_msgs::Header header;
+  header.stamp = simStamp();
+  header.frame_id = options_.frame_id;
   if (state_pub_.getNumSubscribers() > 0) {  // the message costs an energy pass
-    std_msgs::Header header;
-    header.stamp = ros::Time::now();
-    header.frame_id = options_.frame_id;
     const StepCounters counters{steps_since_reset_, monitor_.consecutiveFailures(),
                                 monitor_.divergenceResets()};
-    state_pub_.publish(toClothState(sim_, last_report_, counters, header));
+    ClothState state = toClothState(sim_, last_report_, counters, header);
+    addGraspInfo(state);
+    state_pub_.publish(state);
   }
+  publishWrenches(header.stamp);
+  publishClock();
 
   if (must_reset) {
     char why[160];
@@ -125,7 +163,13 @@ void ClothSimNode::step(const ros::SteadyTimerEvent&) {
 }
 
 void ClothSimNode::render(const ros::SteadyTimerEvent&) {
-  if (pin_handles_) pin_handles_->sync(sim_.pins().pins());
+  if (pin_handles_) pin_handles_->sync(handledPins());
+  if (points_pub_.getNumSubscribers() > 0) {  // built only for a subscriber
+    std_msgs::Header header;
+    header.stamp = simStamp();
+    header.frame_id = options_.frame_id;
+    points_pub_.publish(toPointCloud(sim_.state().positions, sim_.model().triangles, header));
+  }
   if (markers_pub_.getNumSubscribers() == 0) return;
   const Points& x = sim_.state().positions;
   const Eigen::VectorXd strain = vertexStrain(sim_.model(), x);
@@ -150,11 +194,28 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
                                 " non-finite numbers in the state were drawn as 0");
   }
   shown_ = std::move(build.shown);
+  appendGraspMarkers(sim_.grasps(), grasp_frames_, options_.force_arrow_scale, header,
+                     shown_grasps_, build.markers);
   markers_pub_.publish(build.markers);
 }
 
+std::vector<Pin> ClothSimNode::handledPins() const {
+  // A grasp's pins follow its frame: a handle on them would only be refused.
+  std::vector<Pin> pins;
+  for (const Pin& pin : sim_.pins().pins()) {
+    bool grasped = false;
+    for (const Grasp& g : sim_.grasps()) {
+      grasped = grasped || std::find(g.pin_ids.begin(), g.pin_ids.end(), pin.id) != g.pin_ids.end();
+    }
+    if (!grasped) pins.push_back(pin);
+  }
+  return pins;
+}
+
 void ClothSimNode::resetSimulation(const std::string& why, bool automatic) {
+  clock_.restart(sim_.state().time);  // ROS time goes on from here, never back
   sim_.reset();
+  forgetGrasps();
   steps_since_reset_ = 0;
   monitor_.clearFailures();
   const std::string text =
@@ -211,6 +272,16 @@ void ClothSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status)
   status.addf("sim time (s)", "%.3f", sim_.state().time);
   status.add("pins", sim_.pins().size());
   status.add("spheres", sim_.colliders().spheres().size());
+  status.add("grasps", sim_.grasps().size());
+  status.add("paused", paused_ ? "yes" : "no");
+  const std::vector<std::string> stale = grasp_frames_.staleFrames();
+  if (!stale.empty()) {
+    std::string frames;
+    for (const std::string& f : stale) frames += (frames.empty() ? "" : ", ") + f;
+    status.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN,
+                        "grasp frame stopped updating, held at its last pose: " + frames);
+    status.add("stale grasp frames", frames);
+  }
 }
 
 void ClothSimNode::logSummary(const ros::SteadyTimerEvent&) {

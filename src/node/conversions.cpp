@@ -77,6 +77,7 @@ PinInfo toPinInfo(const Pin& pin, const Vec3& vertex_position) {
   info.target = toPointMsg(pin.target);
   info.position = toPointMsg(vertex_position);
   info.stiffness = pin.stiffness;
+  info.grasp = -1;
   return info;
 }
 
@@ -116,7 +117,18 @@ ClothState toClothState(const Simulation& sim, const StepReport& report,
   s.consecutive_failures = counters.consecutive_failures;
   s.divergence_resets = counters.divergence_resets;
   const Points& x = sim.state().positions;
-  for (const Pin& pin : sim.pins().pins()) s.pins.push_back(toPinInfo(pin, x.col(pin.vertex)));
+  const std::vector<Pin>& pins = sim.pins().pins();
+  for (std::size_t p = 0; p < pins.size(); ++p) {
+    s.pins.push_back(toPinInfo(pins[p], x.col(pins[p].vertex)));
+    if (p < sim.pinLoads().size()) s.pins.back().force = toVector3Msg(sim.pinLoads()[p]);
+  }
+  for (const Grasp& g : sim.grasps()) {
+    for (PinInfo& info : s.pins) {
+      for (int id : g.pin_ids) {
+        if (info.id == id) info.grasp = g.id;
+      }
+    }
+  }
   for (const SphereCollider& sphere : sim.colliders().spheres()) {
     s.spheres.push_back(toSphereInfo(sphere));
   }

@@ -17,21 +17,6 @@ std::string str(const Vec3& v) {
 
 }  // namespace
 
-template <class Response>
-bool ClothSimNode::answer(const std::string& name, Response& res,
-                          const std::function<std::string()>& action) {
-  try {
-    res.message = action();
-    res.success = true;
-    ROS_INFO("%s: %s", name.c_str(), res.message.c_str());
-  } catch (const std::exception& e) {
-    res.success = false;
-    res.message = e.what();
-    refuse(name, res.message);
-  }
-  return true;  // a refusal is an answer, not a transport failure
-}
-
 void ClothSimNode::movePin(const char* source, int pin_id,
                            const geometry_msgs::PointStamped& target) {
   try {

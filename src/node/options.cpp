@@ -121,6 +121,11 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
   read.get("sphere_cull_distance", o.sphere_cull_distance);
   read.get("max_interactive_pins", o.max_interactive_pins);
   read.get("summary_period", o.summary_period);
+  read.get("publish_clock", o.publish_clock);
+  read.get("real_time_factor", o.real_time_factor);
+  read.get("start_paused", o.start_paused);
+  read.get("grasp_frame_timeout", o.grasp_frame_timeout);
+  read.get("force_arrow_scale", o.force_arrow_scale);
   validateNodeOptions(o);
   return o;
 }
@@ -160,6 +165,13 @@ void validateNodeOptions(const NodeOptions& o) {
   }
   if (!std::isfinite(o.summary_period) || o.summary_period < 0.0) {
     fail("summary_period", str(o.summary_period) + " s must be finite and >= 0 (0 = off)");
+  }
+  for (const auto& [value, setting] :
+       {std::pair{o.real_time_factor, &settings::kRealTimeFactor},
+        std::pair{o.grasp_frame_timeout, &settings::kGraspFrameTimeout},
+        std::pair{o.force_arrow_scale, &settings::kForceArrowScale}}) {
+    const std::string problem = violation(value, *setting);
+    if (!problem.empty()) fail(setting->param, problem);
   }
 }
 

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -71,6 +72,36 @@ TEST(NodeOptions, ReadsEveryParameterAndAcceptsAnIntegerForANumber) {
   EXPECT_EQ(o.sphere_cull_distance, 7.5);
   EXPECT_EQ(o.max_interactive_pins, 0);
   EXPECT_EQ(o.summary_period, 2.0);
+}
+
+TEST(NodeOptions, SimulatedTimeAndGraspParameters) {
+  const NodeOptions defaults = parseNodeOptions(params());
+  EXPECT_FALSE(defaults.publish_clock);
+  EXPECT_EQ(defaults.real_time_factor, 1.0);
+  EXPECT_FALSE(defaults.start_paused);
+  EXPECT_EQ(defaults.grasp_frame_timeout, 0.5);
+  EXPECT_EQ(defaults.force_arrow_scale, 0.5);
+  XmlRpc::XmlRpcValue p = params();
+  p["publish_clock"] = true;
+  p["real_time_factor"] = 0;  // an int: as fast as possible
+  p["start_paused"] = true;
+  p["grasp_frame_timeout"] = 2.0;
+  p["force_arrow_scale"] = 0.0;
+  const NodeOptions o = parseNodeOptions(p);
+  EXPECT_TRUE(o.publish_clock);
+  EXPECT_EQ(o.real_time_factor, 0.0);
+  EXPECT_TRUE(o.start_paused);
+  EXPECT_EQ(o.grasp_frame_timeout, 2.0);
+  EXPECT_EQ(o.force_arrow_scale, 0.0);
+  for (const auto& [param, value, message] :
+       {std::tuple{"real_time_factor", -1.0, "parameter '~real_time_factor': -1 must be in [0, 1000] (0 = as fast as possible)"},
+        std::tuple{"real_time_factor", 1e9, "parameter '~real_time_factor': 1e+09 must be in [0, 1000]"},
+        std::tuple{"grasp_frame_timeout", 0.0, "parameter '~grasp_frame_timeout': 0 s must be finite and > 0"},
+        std::tuple{"force_arrow_scale", -0.1, "parameter '~force_arrow_scale': -0.1 m/N must be finite and >= 0"}}) {
+    XmlRpc::XmlRpcValue bad = params();
+    bad[param] = value;
+    EXPECT_NE(parseError(bad).find(message), std::string::npos) << parseError(bad);
+  }
 }
 
 TEST(NodeOptions, AMissingSceneIsRefusedNamingTheParameter) {

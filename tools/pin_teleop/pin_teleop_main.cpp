@@ -71,6 +71,7 @@ int main(int argc, char** argv) {
     frame_id = state->header.frame_id;
     std::vector<cloth_sim::node::TeleopPin> pins;
     for (const auto& p : state->pins) {
+      if (p.grasp >= 0) continue;  // a grasp's frame moves its pins (the node refuses a move)
       pins.push_back({p.id, cloth_sim::Vec3(p.target.x, p.target.y, p.target.z)});
     }
     teleop->updatePins(pins, now());

@@ -11,8 +11,10 @@
 #include "cloth_sim/core/collision/contact_forces.h"
 #include "cloth_sim/core/collision/self_contact.h"
 #include "cloth_sim/core/collision/triangle_intersection.h"
+#include "cloth_sim/core/grasp.h"
 #include "cloth_sim/core/model/model.h"
 #include "cloth_sim/core/model/pins.h"
+#include "cloth_sim/core/solvers/pin_reactions.h"
 #include "cloth_sim/core/solvers/solver.h"
 
 namespace cloth_sim {
@@ -85,8 +87,10 @@ class Simulation {
   /// targets, spheres and their moves) are kept; the report says so.
   StepReport step();
 
-  /// Back to the initial state, pins and spheres given at construction. Stiffness, damping,
-  /// h and solver keep their current values.
+  /// Back to the initial state, pins and spheres given at construction, with no grasp.
+  /// Stiffness, damping, h and solver keep their current values; the solver is made afresh and
+  /// the contact warm start forgotten, so the same inputs after a reset give the same states bit
+  /// for bit.
   void reset();
 
   // --- run-time edits -------------------------------------------------------------------------
@@ -94,8 +98,19 @@ class Simulation {
   int addPin(int vertex, const Vec3& target, double stiffness = 0.0);
   /// Pins @p vertex where it is now.
   int addPinHere(int vertex, double stiffness = 0.0);
+  /// Removes pin @p id; refused for a pin of a grasp (release the grasp instead).
   void removePin(int id);
+  /// Moves pin @p id's target; refused for a pin of a grasp (its frame moves it).
   void movePin(int id, const Vec3& target);
+  /// Holds @p vertices (distinct, in range, not pinned yet, at least one) rigidly by a frame now
+  /// at @p pose: each becomes a hard pin where it is now. From the next substep on, the targets
+  /// follow the frame given by the pose source (setGraspPoseSource; without one, the frame stays
+  /// at @p pose). Returns the grasp id. Throws std::invalid_argument naming what is wrong.
+  int addGrasp(const std::vector<int>& vertices, const Pose& pose);
+  /// Lets go of grasp @p id: its pins are removed and its particles fall free.
+  void removeGrasp(int id);
+  /// The function asked, at each substep, where each grasp's frame is (empty: frames stay put).
+  void setGraspPoseSource(GraspPoseSource source) { pose_source_ = std::move(source); }
   int addSphere(const SphereCollider& sphere);
   void removeSphere(int id);
   void moveSphere(int id, const Vec3& center, const Vec3& velocity);
@@ -122,6 +137,13 @@ class Simulation {
   double frameTime() const { return frame_time_; }
   const State& state() const { return state_; }
   const PinSet& pins() const { return pins_; }
+  /// What the cloth exerts on each pin (N) after the last substep, in pins().pins() order
+  /// (PinReactions); zero after a pin-set change or a rollback until the next step.
+  const std::vector<Vec3>& pinLoads() const { return pin_loads_; }
+  /// The grasps, in the order they were made; each with its pose and wrench of the last substep.
+  const std::vector<Grasp>& grasps() const { return grasps_; }
+  /// The grasp with @p id, or nullptr.
+  const Grasp* findGrasp(int id) const;
   const Colliders& colliders() const { return colliders_; }
   const Solver& solver() const { return *solver_; }
   const SolverSettings& solverSettings() const { return options_.settings; }
@@ -142,6 +164,15 @@ class Simulation {
 
  private:
   void rebuildMovableMask();
+  /// Pin targets of every grasp at its frame's pose at simulated time @p time (s), written into
+  /// pins_ and, if given, @p pins_at too.
+  void placeGrasps(double time, PinSet* pins_at);
+  /// Each grasp's wrench from pin_loads_ and the positions.
+  void updateGraspWrenches();
+  /// Throws if pin @p id belongs to a grasp (@p what: "removed", "moved").
+  void requireNotGrasped(int id, const char* what) const;
+  /// Zero loads for the current pins (after a pin-set change or a rollback).
+  void clearLoads();
   /// One implicit step of model_.time_step with @p pins; adds what it did to @p report.
   void substep(const PinSet& pins, StepReport& report);
   /// The solver's step on @p input, its iterations and time added to @p report.
@@ -176,6 +207,11 @@ class Simulation {
   double frame_time_ = 0.0;    ///< s, see frameTime()
   std::vector<std::pair<int, Vec3>> frame_targets_;  ///< pin id -> target at the last frame's end
   std::vector<SphereJump> sphere_jumps_;
+  std::vector<Grasp> grasps_;
+  int next_grasp_id_ = 0;
+  GraspPoseSource pose_source_;
+  PinReactions reactions_;
+  std::vector<Vec3> pin_loads_;  ///< N, see pinLoads()
 };
 
 }  // namespace cloth_sim

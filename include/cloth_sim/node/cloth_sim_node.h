@@ -4,7 +4,9 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -16,19 +18,25 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
+#include <cloth_sim/AddGrasp.h>
 #include <cloth_sim/AddPin.h>
 #include <cloth_sim/ClothSimConfig.h>
+#include <cloth_sim/ClothState.h>
 #include <cloth_sim/PinMove.h>
+#include <cloth_sim/ReleaseGrasp.h>
 #include <cloth_sim/RemovePin.h>
 #include <cloth_sim/RemoveSphere.h>
 #include <cloth_sim/SpawnSphere.h>
+#include <cloth_sim/Step.h>
 
 #include "cloth_sim/core/simulation.h"
 #include "cloth_sim/node/frame_resolver.h"
+#include "cloth_sim/node/grasp_frames.h"
 #include "cloth_sim/node/log_throttle.h"
 #include "cloth_sim/node/marker_builder.h"
 #include "cloth_sim/node/options.h"
 #include "cloth_sim/node/pin_handles.h"
+#include "cloth_sim/node/sim_clock.h"
 #include "cloth_sim/node/step_monitor.h"
 
 namespace cloth_sim::node {
@@ -50,7 +58,11 @@ class ClothSimNode {
 
  private:
   // --- scheduling (cloth_sim_node.cpp) --------------------------------------------------------
+  /// The step timer: one frame unless paused.
   void step(const ros::SteadyTimerEvent&);
+  /// One frame: the core's step, the monitor, cloth/state, the wrenches, /clock, and the
+  /// automatic reset when due.
+  void stepFrame();
   void render(const ros::SteadyTimerEvent&);
   void logSummary(const ros::SteadyTimerEvent&);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
@@ -58,6 +70,8 @@ class ClothSimNode {
   ClothSimConfig currentConfig() const;
   /// Back to the initial state; @p why goes to the log (throttled when @p automatic).
   void resetSimulation(const std::string& why, bool automatic);
+  /// The pins that get drag handles: all but the grasps' (their frame moves them).
+  std::vector<Pin> handledPins() const;
   /// Removes the spheres that flew beyond ~sphere_cull_distance.
   void cullSpheres();
   /// Logs "<where>: <why>" as a warning, at most once per few seconds per distinct text.
@@ -74,6 +88,27 @@ class ClothSimNode {
   bool onAddPin(AddPin::Request& req, AddPin::Response& res);
   bool onRemovePin(RemovePin::Request& req, RemovePin::Response& res);
   bool onReset(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+
+  // --- simulated time (node_time.cpp) ---------------------------------------------------------
+  /// The state's simulated time as a ROS time (SimClock).
+  ros::Time simStamp() const { return clock_.stamp(sim_.state().time); }
+  /// /clock at simStamp(), when ~publish_clock.
+  void publishClock();
+  bool onPause(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+  bool onUnpause(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+  bool onStep(Step::Request& req, Step::Response& res);
+
+  // --- grasps (node_grasps.cpp) ---------------------------------------------------------------
+  bool onGrasp(AddGrasp::Request& req, AddGrasp::Response& res);
+  bool onRelease(ReleaseGrasp::Request& req, ReleaseGrasp::Response& res);
+  /// The particles a grasp request selects around @p point (m, in ~frame_id).
+  std::vector<int> selectParticles(const AddGrasp::Request& req, const Vec3& point) const;
+  /// cloth/grasps/<id>/wrench of every grasp, stamped @p stamp, in the grasp frame.
+  void publishWrenches(const ros::Time& stamp);
+  /// cloth/state's grasps and markers of the grasps.
+  void addGraspInfo(ClothState& state) const;
+  /// After a reset (which drops every grasp): stop tracking and publishing them.
+  void forgetGrasps();
   /// Runs @p action for service @p name: its result is the success message; an exception
   /// becomes success = false with its text as the message (and a throttled warning).
   template <class Response>
@@ -96,9 +131,14 @@ class ClothSimNode {
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   FrameResolver frames_;
+  GraspFrames grasp_frames_;
+  SimClock clock_;
+  bool paused_ = false;
+  std::map<int, ros::Publisher> wrench_pubs_;  ///< grasp id -> cloth/grasps/<id>/wrench
+  std::set<int> shown_grasps_;                 ///< grasp arrows in the last marker array
 
   ros::NodeHandle nh_, pnh_;
-  ros::Publisher markers_pub_, state_pub_;
+  ros::Publisher markers_pub_, state_pub_, points_pub_, clock_pub_;
   ros::Subscriber pin_move_sub_;
   std::vector<ros::ServiceServer> services_;
   diagnostic_updater::Updater diagnostics_;
@@ -109,5 +149,20 @@ class ClothSimNode {
   ros::SteadyTimer step_timer_, render_timer_, diagnostics_timer_, summary_timer_;
   std::uint64_t renders_ = 0;  ///< marker arrays sent; mesh obstacles go with one a second
 };
+
+template <class Response>
+bool ClothSimNode::answer(const std::string& name, Response& res,
+                          const std::function<std::string()>& action) {
+  try {
+    res.message = action();
+    res.success = true;
+    ROS_INFO("%s: %s", name.c_str(), res.message.c_str());
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = e.what();
+    refuse(name, res.message);
+  }
+  return true;  // a refusal is an answer, not a transport failure
+}
 
 }  // namespace cloth_sim::node

@@ -42,7 +42,8 @@ void requireAllowed(const std::string& what, double value, const Setting& settin
 SphereCollider sphereFromRequest(const SpawnSphere::Request& request, const Vec3& center,
                                  const Vec3& velocity);
 
-/// A pin as cloth/state reports it; @p vertex_position (m) is where its particle is now.
+/// A pin as cloth/state reports it; @p vertex_position (m) is where its particle is now (force
+/// zero and grasp -1: toClothState fills them in).
 PinInfo toPinInfo(const Pin& pin, const Vec3& vertex_position);
 SphereInfo toSphereInfo(const SphereCollider& sphere);
 
@@ -54,7 +55,9 @@ struct StepCounters {
 };
 
 /// cloth/state after a step: @p report is what the step did, @p sim the simulation after it.
-/// The header is used as given (stamp and frame are the caller's).
+/// The header is used as given (stamp and frame are the caller's). Each pin carries its load
+/// (Simulation::pinLoads) and its grasp; the grasps array is left to the node (GraspInfo needs
+/// the frames it tracks, toGraspInfo).
 ClothState toClothState(const Simulation& sim, const StepReport& report,
                         const StepCounters& counters, const std_msgs::Header& header);
 

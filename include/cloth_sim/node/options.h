@@ -49,6 +49,19 @@ struct NodeOptions {
   int max_interactive_pins = 16;
   /// ~summary_period, s, >= 0: log a one-line summary of the simulation this often; 0 = never.
   double summary_period = 0.0;
+  /// ~publish_clock: publish the simulated time on /clock after every frame (the nodes that
+  /// should follow it need /use_sim_time true; launch/cloth_sim.launch sets both together).
+  bool publish_clock = false;
+  /// ~real_time_factor, [0, 1000] (settings::kRealTimeFactor): simulated seconds per wall
+  /// second; 0 = step as fast as the machine can.
+  double real_time_factor = 1.0;
+  /// ~start_paused: wait for cloth/unpause or cloth/step before the first frame.
+  bool start_paused = false;
+  /// ~grasp_frame_timeout, s, > 0 (settings::kGraspFrameTimeout): a grasp frame whose latest
+  /// transform is older than this at a substep's stamp is reported stale (it holds its pose).
+  double grasp_frame_timeout = 0.5;
+  /// ~force_arrow_scale, m/N, >= 0 (settings::kForceArrowScale): length of a grasp's force arrow.
+  double force_arrow_scale = 0.5;
 };
 
 /// Reads the options from @p private_params, the private namespace as one XmlRpc struct (what

@@ -71,6 +71,10 @@ inline constexpr Setting kRestitution{"sphere.restitution",     "restitution",  
 inline constexpr Setting kFriction{"friction",                  "friction",             Range::atLeast(0),                  false, "",       "",                  "Coulomb friction coefficient mu",                    0};
 inline constexpr Setting kSelfThickness{"self_collision.thickness", "",                Range::atLeast(0),                  false, "m",      "(0 = the mean rest edge length)", "Distance the cloth keeps from itself",   0};
 inline constexpr Setting kSelfFriction{"self_collision.friction", "",                  Range::atLeast(0),                  false, "",       "",                  "Coulomb friction of the cloth on itself",            0};
+inline constexpr Setting kGraspRadius{"grasp.radius",          "",                     Range::atLeast(0),                  false, "m",      "(0 = the nearest free particle)", "Particles within this of a grasp point are held", 0};
+inline constexpr Setting kRealTimeFactor{"real_time_factor",    "real_time_factor",     Range::closed(0, 1000),             false, "",       "(0 = as fast as possible)", "Simulated seconds per wall-clock second",     0};
+inline constexpr Setting kGraspFrameTimeout{"grasp_frame_timeout", "grasp_frame_timeout", Range::above(0),                  false, "s",      "",                  "A grasp frame whose latest transform is older is stale", 0};
+inline constexpr Setting kForceArrowScale{"force_arrow_scale",  "force_arrow_scale",    Range::atLeast(0),                  false, "m/N",    "",                  "Length of a grasp's force arrow per newton",        0};
 // clang-format on
 
 /// Every setting above, in that order.
@@ -79,7 +83,8 @@ inline constexpr const Setting* kAllSettings[] = {
     &kAndersonWindow, &kLbfgsWindow,      &kTimeStep,        &kDivergenceStrain, &kArealDensity,
     &kDamping,     &kStructuralStiffness, &kShearStiffness,  &kBendingStiffness, &kGridResolution,
     &kGridSize,    &kMeshScale,           &kMeshThickness,   &kPinStiffness,     &kSphereRadius,
-    &kSphereMass,  &kRestitution,         &kFriction,        &kSelfThickness,    &kSelfFriction};
+    &kSphereMass,  &kRestitution,         &kFriction,        &kSelfThickness,    &kSelfFriction,
+    &kGraspRadius, &kRealTimeFactor,      &kGraspFrameTimeout, &kForceArrowScale};
 }  // namespace settings
 
 }  // namespace cloth_sim

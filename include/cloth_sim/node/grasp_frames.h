@@ -1,0 +1,61 @@
+/// @file grasp_frames.h
+/// The tf2 side of grasps: where each grasp's frame is at a simulated time.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <tf2/buffer_core.h>
+
+#include "cloth_sim/core/grasp.h"
+
+namespace cloth_sim::node {
+
+/// Looks grasp frames up in a tf2 buffer it does not own, for Simulation's GraspPoseSource.
+///
+/// A grasp frame is a tf frame moved by a fixed offset (m, in that frame). At each substep the
+/// node asks for its pose at the substep's stamp: tf2 interpolates between the two transforms
+/// around it. When the buffer has nothing that recent (the frame's publisher is behind or has
+/// stopped), the latest transform is held; once it is older than the timeout the frame is
+/// stale (reported in cloth/state and /diagnostics). A frame that cannot be looked up at all any
+/// more (its tree was cut) keeps its last pose and is stale too.
+class GraspFrames {
+ public:
+  /// @p sim_frame: ~frame_id; @p timeout (s, > 0): age of the latest transform, against the
+  /// stamp asked, beyond which a frame counts as stale.
+  GraspFrames(const tf2::BufferCore& buffer, std::string sim_frame, double timeout);
+
+  /// The pose (in sim_frame) of @p frame moved by @p offset at @p stamp, or the latest one when
+  /// tf2 has none at that stamp. Throws std::invalid_argument naming the frame when it is
+  /// unknown or cannot be transformed into sim_frame, or when @p offset is not finite.
+  Pose lookup(const std::string& frame, const Vec3& offset, const ros::Time& stamp) const;
+
+  /// Tracks grasp @p id on @p frame with @p offset, now at @p pose.
+  void add(int id, const std::string& frame, const Vec3& offset, const Pose& pose);
+  void remove(int id);
+  void clear() { grasps_.clear(); }
+
+  /// Grasp @p id's pose at @p stamp (see the class comment); an unknown id gives the identity.
+  Pose poseAt(int id, const ros::Time& stamp);
+
+  /// What the node reports about one tracked grasp.
+  struct Tracked {
+    std::string frame;
+    Vec3 offset = Vec3::Zero();
+    Pose last_pose = Pose::Identity();
+    bool stale = false;
+  };
+  /// The grasp @p id, or nullptr.
+  const Tracked* find(int id) const;
+  /// Frames of the stale grasps, "frame (grasp id)".
+  std::vector<std::string> staleFrames() const;
+
+ private:
+  const tf2::BufferCore& buffer_;
+  std::string sim_frame_;
+  double timeout_;
+  std::map<int, Tracked> grasps_;
+};
+
+}  // namespace cloth_sim::node

@@ -1,0 +1,40 @@
+/// @file grasp_output.h
+/// Grasps -> messages: their wrench in the grasp frame, GraspInfo, and an arrow marker. Pure.
+#pragma once
+
+#include <set>
+#include <string>
+
+#include <geometry_msgs/Wrench.h>
+#include <std_msgs/Header.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <cloth_sim/GraspInfo.h>
+
+#include "cloth_sim/core/grasp.h"
+#include "cloth_sim/node/grasp_frames.h"
+
+namespace cloth_sim::node {
+
+/// Marker namespace of the grasps: one ARROW per grasp (id = grasp id).
+inline constexpr const char* kGraspsNs = "grasps";
+
+/// @p grasp's wrench (Grasp::wrench, simulation frame) expressed in the grasp frame: force and
+/// torque rotated by R^T, R the frame's rotation (the torque is already about its origin).
+geometry_msgs::Wrench wrenchInGraspFrame(const Grasp& grasp);
+
+/// The GraspInfo of @p grasp, tracked by the node as @p tracked.
+GraspInfo toGraspInfo(const Grasp& grasp, const GraspFrames::Tracked& tracked);
+
+/// An ARROW from the grasp frame's origin along the force the cloth exerts on it, @p scale m
+/// per N long (magenta; red while the frame is stale), in the simulation frame of @p header.
+visualization_msgs::Marker graspArrow(const Grasp& grasp, bool stale, double scale,
+                                      const std_msgs::Header& header);
+
+/// Appends an arrow per grasp of @p grasps and a DELETE per id of @p shown no longer there;
+/// @p shown becomes the ids drawn.
+void appendGraspMarkers(const std::vector<Grasp>& grasps, const GraspFrames& frames, double scale,
+                        const std_msgs::Header& header, std::set<int>& shown,
+                        visualization_msgs::MarkerArray& out);
+
+}  // namespace cloth_sim::node
