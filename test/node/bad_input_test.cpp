@@ -54,8 +54,8 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   probe();
   const auto ok = stamped("world", 0.0, 0.0, 1.0);
   std::vector<std::pair<SpawnSphere::Request, std::string>> cases = {
-      {sphere(ok, 0.0), "radius 0 m must be finite and > 0"},
-      {sphere(ok, -0.1), "radius -0.1 m must be finite and > 0"},
+      {sphere(ok, 0.0), "radius 0 m must be in (0, 1e+06]"},
+      {sphere(ok, -0.1), "radius -0.1 m must be in (0, 1e+06]"},
       {sphere(ok, kNaN), "radius nan m"},
       {sphere(stamped("world", kNaN, 0.0, 1.0), 0.1), "center (nan, 0, 1) is not finite"},
       {sphere(stamped("nowhere", 0.0, 0.0, 1.0), 0.1), "center: frame 'nowhere' is unknown"},
@@ -63,7 +63,7 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   };
   SpawnSphere::Request r = sphere(ok, 0.1);
   r.mass = -1.0;
-  cases.emplace_back(r, "mass -1 kg must be finite and >= 0");
+  cases.emplace_back(r, "mass -1 kg must be in [0, 1e+09] (0 = kinematic)");
   r.mass = 2.0;
   r.restitution = 1.5;
   cases.emplace_back(r, "restitution 1.5 must be in [0, 1]");
@@ -73,7 +73,7 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   cases.emplace_back(r, "velocity (inf, 0, 0) is not finite");
   r.velocity.x = 0.0;
   r.friction = -1.0;
-  cases.emplace_back(r, "friction -1 must be finite and >= 0");
+  cases.emplace_back(r, "friction -1 must be in [0, 100]");
   for (const auto& [req, why] : cases) {
     const auto res = call<SpawnSphere>("cloth/spawn_sphere", req);
     expectRefused(res, why);

@@ -75,6 +75,11 @@ class Simulation {
   /// Back to the initial state, pins and spheres given at construction. Stiffness, damping,
   /// h and solver keep their current values.
   void reset();
+  /// The recovery from repeated divergence: the cloth back to its initial state (positions,
+  /// zero velocities) and the dynamic spheres stopped, keeping every pin (with its target) and
+  /// every sphere as it is now, so the user's edits survive. Each pin whose target is away from
+  /// its particle's initial position is moved there across the next frame's substeps.
+  void resetCloth();
 
   // --- run-time edits -------------------------------------------------------------------------
   /// Pins @p vertex at @p target (N/m stiffness, 0 = hard); returns the pin id.
@@ -82,6 +87,8 @@ class Simulation {
   /// Pins @p vertex where it is now.
   int addPinHere(int vertex, double stiffness = 0.0);
   void removePin(int id);
+  /// Sets pin @p id's target (m). The pin moves there across the next frame's substeps, at most
+  /// maxPinMove() per frame: a target farther away is reached over several frames.
   void movePin(int id, const Vec3& target);
   int addSphere(const SphereCollider& sphere);
   void removeSphere(int id);
@@ -103,6 +110,8 @@ class Simulation {
   /// implicit step, this divided by SolverSettings::substeps).
   double frameTime() const { return frame_time_; }
   const State& state() const { return state_; }
+  /// m, the positions the simulation started from (and reset() returns to).
+  const Points& initialPositions() const { return initial_state_.positions; }
   const PinSet& pins() const { return pins_; }
   const Colliders& colliders() const { return colliders_; }
   const Solver& solver() const { return *solver_; }
@@ -129,6 +138,15 @@ class Simulation {
   /// Kinematic spheres moved since the last frame: their pending jumps become velocities for
   /// the frame (sign +1) or are taken back out of them (-1).
   void applySphereJumps(double sign);
+  /// The farthest a pin's target moves in one frame (m): substeps x the shortest spring's rest
+  /// length x divergence_strain / 10. A target set farther away is approached at that speed.
+  double maxPinMove() const;
+  /// Where @p pin's target stands at the end of the coming frame: its target, or maxPinMove()
+  /// of the way there from where it stood at the end of the last frame.
+  Vec3 frameEndTarget(const Pin& pin) const;
+  /// Every pin's target starts at its particle's current position (start, reset): a target away
+  /// from it is then approached at the pins' speed limit instead of in one jerk.
+  void startPinsAtParticles();
   /// Rolls the cloth and spheres back to @p state and @p colliders, keeping the user's edits.
   void rollBack(const State& state, const Colliders& colliders);
 
@@ -150,6 +168,7 @@ class Simulation {
   ContactForces contacts_;     ///< in-solve contact forces, warm-started across steps
   double frame_time_ = 0.0;    ///< s, see frameTime()
   std::vector<std::pair<int, Vec3>> frame_targets_;  ///< pin id -> target at the last frame's end
+  double shortest_rest_length_ = 0.0;  ///< m, of all springs (maxPinMove)
   std::vector<SphereJump> sphere_jumps_;
 };
 
