@@ -44,6 +44,7 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
   style_.shading = options_.shading;
   const Points& x = sim_.state().positions;
   cloth_center_ = x.rowwise().mean();
+  limits_ = SceneLimits::of(sim_, options_.sphere_cull_distance);
   const double extent = (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).maxCoeff();
   ground_size_ = std::max(3.0, 3.0 * extent);
 
@@ -154,13 +155,17 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
 }
 
 void ClothSimNode::resetSimulation(const std::string& why, bool automatic) {
-  sim_.reset();
+  // The automatic reset is a recovery: only the cloth restarts, the user's pins and spheres
+  // stay (the README promises that bad input leaves the simulation as the user made it).
+  if (automatic) sim_.resetCloth();
+  else sim_.reset();
   steps_since_reset_ = 0;
   monitor_.clearFailures();
-  const std::string text =
-      "simulation reset to the initial state of scene '" + scene_name_ + "': " + why;
-  if (automatic) warnThrottled("automatic reset", text);
-  else ROS_INFO("%s", text.c_str());
+  // One line per reset: a requested one is logged by its service answer (onReset).
+  if (automatic) {
+    warnThrottled("automatic reset", "cloth reset to the initial shape of scene '" + scene_name_ +
+                                         "', pins and spheres kept: " + why);
+  }
 }
 
 void ClothSimNode::cullSpheres() {

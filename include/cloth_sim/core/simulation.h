@@ -123,6 +123,9 @@ class Simulation {
   double totalEnergy() const;
   /// Numeric factorizations done by all solvers so far.
   int factorizationCount() const;
+  /// The farthest a pin's target moves in one frame (m): substeps x the shortest spring's rest
+  /// length x divergence_strain / 10. A target set farther away is approached at that speed.
+  double maxPinMove() const;
   /// Bumped when h, a stiffness, a mass or the pin set changes (see SolverInput).
   std::uint64_t revision() const { return revision_; }
 
@@ -138,9 +141,6 @@ class Simulation {
   /// Kinematic spheres moved since the last frame: their pending jumps become velocities for
   /// the frame (sign +1) or are taken back out of them (-1).
   void applySphereJumps(double sign);
-  /// The farthest a pin's target moves in one frame (m): substeps x the shortest spring's rest
-  /// length x divergence_strain / 10. A target set farther away is approached at that speed.
-  double maxPinMove() const;
   /// Where @p pin's target stands at the end of the coming frame: its target, or maxPinMove()
   /// of the way there from where it stood at the end of the last frame.
   Vec3 frameEndTarget(const Pin& pin) const;

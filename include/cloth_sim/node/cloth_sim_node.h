@@ -23,6 +23,7 @@
 #include <cloth_sim/RemoveSphere.h>
 #include <cloth_sim/SpawnSphere.h>
 
+#include "cloth_sim/core/io/scene_limits.h"
 #include "cloth_sim/core/simulation.h"
 #include "cloth_sim/node/frame_resolver.h"
 #include "cloth_sim/node/log_throttle.h"
@@ -87,6 +88,7 @@ class ClothSimNode {
   MarkerStyle style_;
   ShownMarkers shown_;
   Vec3 cloth_center_;   ///< m, centre of the initial positions
+  SceneLimits limits_;  ///< what runtime inputs may ask (reach: ~sphere_cull_distance)
   double ground_size_;  ///< m
   std::uint64_t steps_since_reset_ = 0;
   StepReport last_report_;
