@@ -13,6 +13,7 @@ add_library(cloth_sim_ros
   src/node/step_monitor.cpp
   src/node/log_throttle.cpp
   src/node/pin_handles.cpp
+  src/node/render_pacer.cpp
 )
 target_include_directories(cloth_sim_ros PUBLIC include)
 target_link_libraries(cloth_sim_ros PUBLIC cloth_sim_core ${catkin_LIBRARIES})
@@ -44,7 +45,7 @@ install(DIRECTORY launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 if(CATKIN_ENABLE_TESTING)
   set(NODE_UNIT_TESTS
     options_test conversions_test frame_resolver_test marker_builder_test step_monitor_test
-    pin_handles_test reconfigure_cfg_test)
+    pin_handles_test reconfigure_cfg_test render_pacer_test)
   foreach(t ${NODE_UNIT_TESTS})
     catkin_add_gtest(node_${t} test/node/${t}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
     target_link_libraries(node_${t} cloth_sim_ros GTest::gtest_main)

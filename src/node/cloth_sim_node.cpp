@@ -128,6 +128,8 @@ void ClothSimNode::step(const ros::SteadyTimerEvent&) {
 void ClothSimNode::render(const ros::SteadyTimerEvent&) {
   if (pin_handles_) pin_handles_->sync(sim_.pins().pins());
   if (markers_pub_.getNumSubscribers() == 0) return;
+  const double now = ros::SteadyTime::now().toSec();
+  if (!pacer_.due(now)) return;  // a large cloth is sent less often (~marker_bandwidth)
   const Points& x = sim_.state().positions;
   const Eigen::VectorXd strain = vertexStrain(sim_.model(), x);
   // Static obstacles can be large: sent with the first array and then once a second.
@@ -151,6 +153,7 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
                                 " non-finite numbers in the state were drawn as 0");
   }
   shown_ = std::move(build.shown);
+  pacer_.sent(now, ros::serialization::serializationLength(build.markers));
   markers_pub_.publish(build.markers);
 }
 

@@ -116,6 +116,7 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
   read.get("sphere_cull_distance", o.sphere_cull_distance);
   read.get("max_interactive_pins", o.max_interactive_pins);
   read.get("summary_period", o.summary_period);
+  read.get("marker_bandwidth", o.marker_bandwidth);
   validateNodeOptions(o);
   return o;
 }
@@ -152,6 +153,9 @@ void validateNodeOptions(const NodeOptions& o) {
   }
   if (o.max_interactive_pins < 0) {
     fail("max_interactive_pins", str(o.max_interactive_pins) + " must be >= 0 (0 = none)");
+  }
+  if (!std::isfinite(o.marker_bandwidth) || o.marker_bandwidth <= 0.0) {
+    fail("marker_bandwidth", str(o.marker_bandwidth) + " bytes/s must be finite and > 0");
   }
   if (!std::isfinite(o.summary_period) || o.summary_period < 0.0) {
     fail("summary_period", str(o.summary_period) + " s must be finite and >= 0 (0 = off)");

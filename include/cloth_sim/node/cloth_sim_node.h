@@ -30,6 +30,7 @@
 #include "cloth_sim/node/marker_builder.h"
 #include "cloth_sim/node/options.h"
 #include "cloth_sim/node/pin_handles.h"
+#include "cloth_sim/node/render_pacer.h"
 #include "cloth_sim/node/step_monitor.h"
 
 namespace cloth_sim::node {
@@ -110,6 +111,7 @@ class ClothSimNode {
   std::unique_ptr<PinHandles> pin_handles_;
   ros::SteadyTimer step_timer_, render_timer_, diagnostics_timer_, summary_timer_;
   std::uint64_t renders_ = 0;  ///< marker arrays sent; mesh obstacles go with one a second
+  RenderPacer pacer_{options_.marker_bandwidth, 1.0 / options_.render_rate};  ///< bytes/s cap
 };
 
 }  // namespace cloth_sim::node

@@ -44,6 +44,10 @@ struct NodeOptions {
   int max_interactive_pins = 16;
   /// ~summary_period, s, >= 0: log a one-line summary of the simulation this often; 0 = never.
   double summary_period = 0.0;
+  /// ~marker_bandwidth, bytes/s, > 0: cloth/markers is sent at ~render_rate, or less often when
+  /// its arrays are large, so as not to exceed this (RenderPacer; 12 MB/s keeps 30 Hz up to a
+  /// 40 x 40 cloth, drape's).
+  double marker_bandwidth = 12e6;
 };
 
 /// Reads the options from @p private_params, the private namespace as one XmlRpc struct (what
