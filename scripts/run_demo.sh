@@ -17,7 +17,7 @@ fi
 # would exit, and roslaunch with it, but with status 0).
 SCENE_FILE="$REPO_ROOT/config/scenes/$SCENE.yaml"
 [ -f "$SCENE_FILE" ] || SCENE_FILE="$SCENE"
-if ! check=$("$WS/devel/lib/cloth_sim/cloth_sim_run" --scene "$SCENE_FILE" --duration 1e-9 --quiet 2>&1); then
+if ! check=$("$WS/devel/lib/cloth_sim/cloth_sim_run" --scene "$SCENE_FILE" --check 2>&1); then
   echo "[run_demo] scene '$SCENE' cannot be used: $check" >&2
   exit 1
 fi

@@ -124,7 +124,7 @@ TEST(RunScene, RandomBadOptionsAreRefusedByNameOrRunWithoutRollback) {
   const std::vector<std::string> options = {
       "--solver", "--iterations", "--substeps", "--dt", "--duration", "--tolerance",
       "--linear-solver", "--integrator", "--csv", "--json", "--positions", "--scene",
-      "--warm-start", "--quiet"};
+      "--warm-start", "--quiet", "--check"};
   const std::vector<std::string> values = {
       "nan", "inf", "-inf", "1e308", "-1e308", "1e300", "1e-300", "5e-324", "0", "-0", "-1",
       "0.5", "1", "3", "1e5", "100000", "2147483648", "99999999999999999999", "abc", "",
@@ -160,6 +160,18 @@ TEST(RunScene, RandomBadOptionsAreRefusedByNameOrRunWithoutRollback) {
   std::printf("[measured] runner options: %d refused by name, %d ran cleanly\n", refused, ran);
   EXPECT_GT(refused, 0);
   EXPECT_GT(ran, 0);
+}
+
+TEST(RunScene, CheckBuildsTheSceneAndRunsNothing) {
+  // scripts/run_demo.sh checks a scene this way before launching (it used --duration 1e-9,
+  // which now is less than one frame and refused).
+  const std::string csv = tmp("check.csv");
+  std::remove(csv.c_str());
+  EXPECT_EQ(run("--scene " + kScene + " --check --csv " + csv), 0);
+  EXPECT_EQ(run("--scene " + kScene + " --check --substeps 0"), 1);
+  const std::string bad = tmp("check_bad.yaml");
+  std::ofstream(bad) << "time_step: 1/60\ntime_step: 1/30\n";
+  EXPECT_EQ(run("--scene " + bad + " --check"), 1);
 }
 
 TEST(RunDemo, ABadSceneStopsWithAFailingStatusBeforeLaunching) {

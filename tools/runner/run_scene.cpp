@@ -25,7 +25,7 @@ struct Options {
   std::optional<int> iterations, substeps;
   std::optional<double> dt, tolerance;
   double duration = 5.0;
-  bool quiet = false, warm_start = false;
+  bool quiet = false, warm_start = false, check = false;
 };
 
 /// Values longer than this are cut in messages: a 100 kB argument is not echoed back whole.
@@ -119,6 +119,8 @@ int main(int argc, char** argv) {
   app.add_flag("--warm-start", o.warm_start,
                "local_global, chebyshev, anderson, lbfgs: start from y + the previous step's correction");
   app.add_flag("--quiet", o.quiet, "no per-second summary on stdout");
+  app.add_flag("--check", o.check,
+               "load and build the scene with the options, run nothing: exit 0 if it can be run");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -149,6 +151,7 @@ int main(int argc, char** argv) {
     }
     const SceneConfig scene = applyOverrides(std::move(loaded), overrides);
     Simulation sim = makeSimulation(scene);
+    if (o.check) return 0;  // the scene and the options are usable (scripts/run_demo.sh)
     const double h = sim.frameTime();
     // A count derived from user numbers is checked before it is cast: 1e-10 s frames for 1 s
     // would overflow an int into a run of one step.
