@@ -45,6 +45,7 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
   const Points& x = sim_.state().positions;
   cloth_center_ = x.rowwise().mean();
   limits_ = SceneLimits::of(sim_, options_.sphere_cull_distance);
+  style_.pin_diameter = 0.4 * handleSizeFor(limits_.size);  // 4 cm on a 1 m cloth, as before
   const double extent = (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).maxCoeff();
   ground_size_ = std::max(3.0, 3.0 * extent);
 
@@ -73,7 +74,8 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
   if (options_.max_interactive_pins > 0) {
     pin_handles_ = std::make_unique<PinHandles>(
         "cloth/pin_handles", options_.frame_id, options_.max_interactive_pins,
-        [this](int id, const geometry_msgs::PointStamped& target) { movePin("cloth/pin_handles", id, target); });
+        [this](int id, const geometry_msgs::PointStamped& target) { movePin("cloth/pin_handles", id, target); },
+        handleSizeFor(limits_.size));
     pin_handles_->sync(sim_.pins().pins());
   }
 
