@@ -45,7 +45,11 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
   const Points& x = sim_.state().positions;
   cloth_center_ = x.rowwise().mean();
   limits_ = SceneLimits::of(sim_, options_.sphere_cull_distance);
-  style_.pin_diameter = 0.4 * handleSizeFor(limits_.size);  // 4 cm on a 1 m cloth, as before
+  // Pins drawn with the handles' scale, but no wider than the particle spacing, so a pinned
+  // edge reads as a row of beads, not a wall (trampoline, gravity_well).
+  const auto& rest = sim_.model().springs.rest_length;
+  const double spacing = rest.empty() ? limits_.size : *std::min_element(rest.begin(), rest.end());
+  style_.pin_diameter = std::min(0.4 * handleSizeFor(limits_.size), 0.8 * spacing);
   const double extent = (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).maxCoeff();
   ground_size_ = std::max(3.0, 3.0 * extent);
 
