@@ -42,6 +42,7 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       diagnostics_(nh, pnh) {
   style_.strain_color_scale = options_.strain_color_scale;
   style_.shading = options_.shading;
+  style_.color_mode = colorModeFromName(options_.color_mode);  // checked by validateNodeOptions
   const Points& x = sim_.state().positions;
   cloth_center_ = x.rowwise().mean();
   limits_ = SceneLimits::of(sim_, options_.sphere_cull_distance);
@@ -243,6 +244,7 @@ ClothSimConfig ClothSimNode::currentConfig() const {
   c.solver = sim_.solver().name();
   c.iterations = sim_.solverSettings().max_iterations;
   c.substeps = sim_.solverSettings().substeps;
+  c.color_mode = style_.color_mode == ColorMode::kShaded ? "shaded" : "strain";
   return c;
 }
 
@@ -281,6 +283,9 @@ void ClothSimNode::onReconfigure(ClothSimConfig& config, std::uint32_t /*level*/
           },
           [&] { config.*field = current.*field; });
   };
+  apply("color_mode", config.color_mode != current.color_mode,
+        [&] { style_.color_mode = colorModeFromName(config.color_mode); },
+        [&] { config.color_mode = current.color_mode; });
   applySolverSetting("iterations", &ClothSimConfig::iterations, &SolverSettings::max_iterations);
   applySolverSetting("substeps", &ClothSimConfig::substeps, &SolverSettings::substeps);
 }

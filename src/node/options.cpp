@@ -7,6 +7,7 @@
 #include "cloth_sim/core/settings/settings_table.h"
 #include "cloth_sim/core/solvers/solver.h"
 #include "cloth_sim/node/conversions.h"
+#include "cloth_sim/node/marker_builder.h"
 
 namespace cloth_sim::node {
 namespace {
@@ -113,6 +114,7 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
   read.get("max_rollbacks", o.max_rollbacks);
   read.get("strain_color_scale", o.strain_color_scale);
   read.get("shading", o.shading);
+  read.get("color_mode", o.color_mode);
   read.get("sphere_cull_distance", o.sphere_cull_distance);
   read.get("max_interactive_pins", o.max_interactive_pins);
   read.get("summary_period", o.summary_period);
@@ -153,6 +155,11 @@ void validateNodeOptions(const NodeOptions& o) {
   }
   if (o.max_interactive_pins < 0) {
     fail("max_interactive_pins", str(o.max_interactive_pins) + " must be >= 0 (0 = none)");
+  }
+  try {
+    colorModeFromName(o.color_mode);
+  } catch (const std::invalid_argument& e) {
+    fail("color_mode", e.what());
   }
   if (!std::isfinite(o.marker_bandwidth) || o.marker_bandwidth <= 0.0) {
     fail("marker_bandwidth", str(o.marker_bandwidth) + " bytes/s must be finite and > 0");

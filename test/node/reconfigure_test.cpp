@@ -120,6 +120,22 @@ TEST(Reconfigure, SubstepsSplitTheFrameWhichStaysTheStep) {
   EXPECT_TRUE(p.waitForState([](const ClothState& c) { return c.substeps == 1; }, 3.0));
 }
 
+std::string strIn(const dynamic_reconfigure::Config& c, const std::string& name) {
+  for (const auto& p : c.strs) {
+    if (p.name == name) return p.value;
+  }
+  ADD_FAILURE() << name << " not in the reported config";
+  return "";
+}
+
+TEST(Reconfigure, ColorModeSwitchesAndAnUnknownOneIsPutBack) {
+  // Issue 13: a shaded colour mode beside strain (drape's stretched cloth read as a red ball).
+  probe();
+  EXPECT_EQ(strIn(reconfigure("color_mode", std::string("shaded")), "color_mode"), "shaded");
+  EXPECT_EQ(strIn(reconfigure("color_mode", std::string("red")), "color_mode"), "shaded");
+  EXPECT_EQ(strIn(reconfigure("color_mode", std::string("strain")), "color_mode"), "strain");
+}
+
 TEST(Reconfigure, AnUnstableSolverIsRolledBackThenResetAndDiagnosed) {
   NodeProbe& p = probe();
   ros::NodeHandle nh;

@@ -36,6 +36,9 @@ struct NodeOptions {
   double strain_color_scale = 0.05;
   /// ~shading: darken the cloth colours by a fixed light, so folds are visible in RViz.
   bool shading = true;
+  /// ~color_mode: "strain" (the cloth coloured by strain) or "shaded" (one colour, shading
+  /// only); also a dynamic_reconfigure parameter.
+  std::string color_mode = "strain";
   /// ~sphere_cull_distance, m, > 0: a sphere farther than this from the cloth's initial centre
   /// is removed (a thrown kinematic sphere flies on forever otherwise).
   double sphere_cull_distance = 20.0;
