@@ -47,6 +47,7 @@ add_library(cloth_sim_core
   src/core/io/scene_reader.cpp
   src/core/io/scene_builder.cpp
   src/core/io/scene_overrides.cpp
+  src/core/io/scene_limits.cpp
 )
 # CHOLMOD (SuiteSparse, Debian libsuitesparse-dev): no CMake package in Debian 12, so found by
 # hand. Private: its headers stay in src/core/linalg/cholmod_factor.cpp.
@@ -82,7 +83,8 @@ if(CATKIN_ENABLE_TESTING)
     solvers/local_global/local_step_test solvers/local_global/global_system_test
     solvers/local_global/local_global_solver_test
     solvers/baselines/explicit_solvers_test solvers/baselines/local_global_3n_solver_test
-    simulation_test substeps_test grasp_test io/scene_test settings/settings_table_test)
+    simulation_test substeps_test grasp_test io/scene_test io/bad_scene_random_test
+    settings/settings_table_test)
   foreach(path ${CORE_TESTS})
     get_filename_component(t ${path} NAME)
     catkin_add_gtest(${t} test/core/${path}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

@@ -17,6 +17,7 @@ add_library(cloth_sim_ros
   src/node/grasp_frames.cpp
   src/node/grasp_output.cpp
   src/node/point_cloud.cpp
+  src/node/render_pacer.cpp
 )
 target_include_directories(cloth_sim_ros PUBLIC include)
 target_link_libraries(cloth_sim_ros PUBLIC cloth_sim_core ${catkin_LIBRARIES})
@@ -54,7 +55,7 @@ install(DIRECTORY launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 if(CATKIN_ENABLE_TESTING)
   set(NODE_UNIT_TESTS
     options_test conversions_test frame_resolver_test marker_builder_test step_monitor_test
-    pin_handles_test reconfigure_cfg_test grasp_frames_test grasp_output_test)
+    pin_handles_test reconfigure_cfg_test grasp_frames_test grasp_output_test render_pacer_test)
   foreach(t ${NODE_UNIT_TESTS})
     catkin_add_gtest(node_${t} test/node/${t}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
     target_link_libraries(node_${t} cloth_sim_ros GTest::gtest_main)
@@ -70,7 +71,7 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(cloth_sim_rostest_util PUBLIC cloth_sim_ros GTest::gtest)
   target_compile_definitions(cloth_sim_rostest_util PUBLIC
                              CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-  set(NODE_ROSTESTS integration bad_input reconfigure grasp)
+  set(NODE_ROSTESTS integration bad_input bad_input_random reconfigure grasp)
   foreach(t ${NODE_ROSTESTS})
     add_rostest_gtest(node_${t}_test test/node/${t}.test test/node/${t}_test.cpp)
     target_link_libraries(node_${t}_test cloth_sim_rostest_util)

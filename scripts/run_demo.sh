@@ -17,7 +17,7 @@ fi
 # would exit, and roslaunch with it, but with status 0).
 SCENE_FILE="$REPO_ROOT/config/scenes/$SCENE.yaml"
 [ -f "$SCENE_FILE" ] || SCENE_FILE="$SCENE"
-if ! check=$("$WS/devel/lib/cloth_sim/cloth_sim_run" --scene "$SCENE_FILE" --duration 1e-9 --quiet 2>&1); then
+if ! check=$("$WS/devel/lib/cloth_sim/cloth_sim_run" --scene "$SCENE_FILE" --check 2>&1); then
   echo "[run_demo] scene '$SCENE' cannot be used: $check" >&2
   exit 1
 fi
@@ -35,12 +35,17 @@ if [ -n "${DISPLAY:-}" ] && ! xdpyinfo > /dev/null 2>&1; then
   echo "[run_demo] DISPLAY=$DISPLAY cannot be reached: running headless" >&2
   unset DISPLAY
 fi
+RVIZ_ARGS=()
 if [ -n "${DISPLAY:-}" ]; then
   RVIZ=true SUMMARY=false
+  # A camera that frames this scene (its cloth's bounds), not one view for every scene.
+  RVIZ_CONFIG="$(mktemp /tmp/cloth_sim_XXXXXX.rviz)"
+  python3 "$REPO_ROOT/scripts/rviz_config.py" "$SCENE_FILE" "$RVIZ_CONFIG" &&
+    RVIZ_ARGS=(rviz_config:="$RVIZ_CONFIG")
 else
   RVIZ=false SUMMARY=true
   echo "[run_demo] no DISPLAY: running headless, with a summary of cloth/state every second"
   echo "[run_demo] (scripts/screenshot.sh $SCENE saves an RViz picture without a display)"
 fi
 exec roslaunch "${PORT_ARGS[@]}" cloth_sim demo.launch scene:="$SCENE" rviz:="$RVIZ" \
-  summary:="$SUMMARY"
+  summary:="$SUMMARY" "${RVIZ_ARGS[@]}"

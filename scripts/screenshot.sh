@@ -19,15 +19,22 @@ set -u
 PORT="${ROS_PORT:-$((11600 + RANDOM % 300))}"
 export ROS_MASTER_URI="http://localhost:$PORT"
 LOG="$(mktemp /tmp/cloth_sim_screenshot.XXXXXX.log)"
+SCENE_FILE="$REPO_ROOT/config/scenes/$SCENE.yaml"
+[ -f "$SCENE_FILE" ] || SCENE_FILE="$SCENE"
+RVIZ_CONFIG="$(mktemp /tmp/cloth_sim_screenshot.XXXXXX.rviz)"
+python3 "$REPO_ROOT/scripts/rviz_config.py" "$SCENE_FILE" "$RVIZ_CONFIG"
+# demo.launch takes the scene's framing; another launch file brings its own RViz config.
+RVIZ_ARG=""
+[ "$LAUNCH" = demo.launch ] && RVIZ_ARG="rviz_config:=$RVIZ_CONFIG"
 
 xvfb-run -a -s "-screen 0 1024x720x24" bash -c '
-  roslaunch -p "$0" cloth_sim "$5" scene:="$1" rviz:=true >"$4" 2>&1 &
+  roslaunch -p "$0" cloth_sim "$5" scene:="$1" rviz:=true $6 >"$4" 2>&1 &
   launch=$!
   sleep "$2"
   import -window root "$3"
   kill -INT "$launch"
   wait "$launch" || true
-' "$PORT" "$SCENE" "$WAIT" "$OUT" "$LOG" "$LAUNCH"
+' "$PORT" "$SCENE" "$WAIT" "$OUT" "$LOG" "$LAUNCH" "$RVIZ_ARG"
 
 if [ ! -s "$OUT" ]; then
   echo "[screenshot] no image; roslaunch log: $LOG" >&2

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -58,8 +59,19 @@ Simulation::Simulation(Model model, const Points& rest_positions, PinSet pins,
   initial_colliders_ = colliders_;
   solver_ = makeSolver(options_.solver);
   rebuildMovableMask();
+  const auto& rest = model_.springs.rest_length;
+  shortest_rest_length_ = rest.empty() ? std::numeric_limits<double>::infinity()
+                                       : *std::min_element(rest.begin(), rest.end());
   if (options_.self_contact.enabled) setSelfContact(options_.self_contact);
   clearLoads();
+  startPinsAtParticles();
+}
+
+void Simulation::startPinsAtParticles() {
+  frame_targets_.clear();
+  for (const Pin& pin : pins_.pins()) {
+    frame_targets_.emplace_back(pin.id, Vec3(state_.positions.col(pin.vertex)));
+  }
 }
 
 void Simulation::rebuildMovableMask() {
@@ -81,6 +93,8 @@ StepReport Simulation::step() {
   }
   PinSet pins_at = pins_moved ? pins_ : PinSet();
   applySphereJumps(+1.0);
+  std::vector<std::pair<int, Vec3>> frame_end;  // where each target stands when the frame ends
+  for (const Pin& pin : pins_.pins()) frame_end.emplace_back(pin.id, frameEndTarget(pin));
   StepReport report;
   for (int k = 1; k <= n; ++k) {
     if (pins_moved) interpolatePins(static_cast<double>(k) / n, pins_at);
@@ -115,8 +129,15 @@ StepReport Simulation::step() {
   }
   updateGraspWrenches();
   sphere_jumps_.clear();
-  frame_targets_.clear();
-  for (const Pin& pin : pins_.pins()) frame_targets_.emplace_back(pin.id, pin.target);
+  // A grasp's pins follow its frame (placeGrasps), not the speed limit of the user's moves.
+  for (const Grasp& g : grasps_) {
+    for (int id : g.pin_ids) {
+      for (auto& [pin_id, target] : frame_end) {
+        if (pin_id == id) target = pins_.find(id)->target;
+      }
+    }
+  }
+  frame_targets_ = std::move(frame_end);
   if (self_contact_) {
     const auto t_count = std::chrono::steady_clock::now();
     report.intersections = countIntersections();
@@ -183,9 +204,26 @@ void Simulation::interpolatePins(double s, PinSet& pins_at) const {
   for (const auto& [id, from] : frame_targets_) {
     const Pin* pin = pins_.find(id);
     if (pin != nullptr && pin->target != from) {
-      pins_at.moveTarget(id, from + s * (pin->target - from));
+      pins_at.moveTarget(id, from + s * (frameEndTarget(*pin) - from));
     }
   }
+}
+
+double Simulation::maxPinMove() const {
+  // A target jumping d in one implicit step stretches the springs of its particle by at most
+  // d / r before the cloth follows: keeping that a tenth of divergence_strain keeps a drag,
+  // however fast, far from a rolled-back frame.
+  return options_.settings.substeps * shortest_rest_length_ * options_.divergence_strain / 10.0;
+}
+
+Vec3 Simulation::frameEndTarget(const Pin& pin) const {
+  for (const auto& [id, from] : frame_targets_) {
+    if (id != pin.id) continue;
+    const Vec3 way = pin.target - from;
+    const double distance = way.norm(), limit = maxPinMove();
+    return distance <= limit ? pin.target : Vec3(from + way * (limit / distance));
+  }
+  return pin.target;
 }
 
 void Simulation::applySphereJumps(double sign) {
@@ -234,14 +272,28 @@ void Simulation::reset() {
   }
   pins_ = initial_pins_;
   colliders_ = initial_colliders_;
-  frame_targets_.clear();
+  startPinsAtParticles();
   sphere_jumps_.clear();
   rebuildMovableMask();
   clearLoads();
 }
 
+void Simulation::resetCloth() {
+  state_ = initial_state_;
+  for (SphereCollider& s : colliders_.mutableSpheres()) {
+    if (!s.isDynamic()) continue;
+    s.velocity.setZero();
+    s.angular_velocity.setZero();
+  }
+  sphere_jumps_.clear();
+  contacts_ = ContactForces();  // forget the warm start that led to the divergence
+  startPinsAtParticles();
+}
+
 int Simulation::addPin(int vertex, const Vec3& target, double stiffness) {
   const int id = pins_.add(vertex, target, stiffness, model_.particleCount());
+  // The target is reached from where the particle is, at the pins' speed limit.
+  frame_targets_.emplace_back(id, Vec3(state_.positions.col(vertex)));
   ++revision_;
   state_.has_previous = false;  // the new pin's particle has no BDF2 history on its target
   rebuildMovableMask();

@@ -51,8 +51,15 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       diagnostics_(nh, pnh) {
   style_.strain_color_scale = options_.strain_color_scale;
   style_.shading = options_.shading;
+  style_.color_mode = colorModeFromName(options_.color_mode);  // checked by validateNodeOptions
   const Points& x = sim_.state().positions;
   cloth_center_ = x.rowwise().mean();
+  limits_ = SceneLimits::of(sim_, options_.sphere_cull_distance);
+  // Pins drawn with the handles' scale, but no wider than the particle spacing, so a pinned
+  // edge reads as a row of beads, not a wall (trampoline, gravity_well).
+  const auto& rest = sim_.model().springs.rest_length;
+  const double spacing = rest.empty() ? limits_.size : *std::min_element(rest.begin(), rest.end());
+  style_.pin_diameter = std::min(0.4 * handleSizeFor(limits_.size), 0.8 * spacing);
   const double extent = (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).maxCoeff();
   ground_size_ = std::max(3.0, 3.0 * extent);
 
@@ -98,7 +105,8 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
   if (options_.max_interactive_pins > 0) {
     pin_handles_ = std::make_unique<PinHandles>(
         "cloth/pin_handles", options_.frame_id, options_.max_interactive_pins,
-        [this](int id, const geometry_msgs::PointStamped& target) { movePin("cloth/pin_handles", id, target); });
+        [this](int id, const geometry_msgs::PointStamped& target) { movePin("cloth/pin_handles", id, target); },
+        handleSizeFor(limits_.size));
     pin_handles_->sync(sim_.pins().pins());
   }
 
@@ -171,6 +179,8 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
     points_pub_.publish(toPointCloud(sim_.state().positions, sim_.model().triangles, header));
   }
   if (markers_pub_.getNumSubscribers() == 0) return;
+  const double now = ros::SteadyTime::now().toSec();
+  if (!pacer_.due(now)) return;  // a large cloth is sent less often (~marker_bandwidth)
   const Points& x = sim_.state().positions;
   const Eigen::VectorXd strain = vertexStrain(sim_.model(), x);
   // Static obstacles can be large: sent with the first array and then once a second.
@@ -196,6 +206,7 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
   shown_ = std::move(build.shown);
   appendGraspMarkers(sim_.grasps(), grasp_frames_, options_.force_arrow_scale, header,
                      shown_grasps_, build.markers);
+  pacer_.sent(now, ros::serialization::serializationLength(build.markers));
   markers_pub_.publish(build.markers);
 }
 
@@ -214,14 +225,21 @@ std::vector<Pin> ClothSimNode::handledPins() const {
 
 void ClothSimNode::resetSimulation(const std::string& why, bool automatic) {
   clock_.restart(sim_.state().time);  // ROS time goes on from here, never back
-  sim_.reset();
-  forgetGrasps();
+  // The automatic reset is a recovery: only the cloth restarts, the user's pins, grasps and
+  // spheres stay (the README promises that bad input leaves the simulation as the user made it).
+  if (automatic) {
+    sim_.resetCloth();
+  } else {
+    sim_.reset();
+    forgetGrasps();
+  }
   steps_since_reset_ = 0;
   monitor_.clearFailures();
-  const std::string text =
-      "simulation reset to the initial state of scene '" + scene_name_ + "': " + why;
-  if (automatic) warnThrottled("automatic reset", text);
-  else ROS_INFO("%s", text.c_str());
+  // One line per reset: a requested one is logged by its service answer (onReset).
+  if (automatic) {
+    warnThrottled("automatic reset", "cloth reset to the initial shape of scene '" + scene_name_ +
+                                         "', pins and spheres kept: " + why);
+  }
 }
 
 void ClothSimNode::cullSpheres() {
@@ -301,6 +319,7 @@ ClothSimConfig ClothSimNode::currentConfig() const {
   c.iterations = sim_.solverSettings().max_iterations;
   c.substeps = sim_.solverSettings().substeps;
   c.self_collision = sim_.selfContact() != nullptr;
+  c.color_mode = style_.color_mode == ColorMode::kShaded ? "shaded" : "strain";
   return c;
 }
 
@@ -339,6 +358,9 @@ void ClothSimNode::onReconfigure(ClothSimConfig& config, std::uint32_t /*level*/
           },
           [&] { config.*field = current.*field; });
   };
+  apply("color_mode", config.color_mode != current.color_mode,
+        [&] { style_.color_mode = colorModeFromName(config.color_mode); },
+        [&] { config.color_mode = current.color_mode; });
   applySolverSetting("iterations", &ClothSimConfig::iterations, &SolverSettings::max_iterations);
   applySolverSetting("substeps", &ClothSimConfig::substeps, &SolverSettings::substeps);
   apply("self_collision", config.self_collision != current.self_collision,

@@ -105,8 +105,13 @@ Marker makeCloth(const MarkerScene& scene, const MarkerStyle& style,
       style.shading ? vertexNormals(scene.positions, scene.triangles) : Points();
   // One colour per particle, shared by the triangle corners that meet there.
   std::vector<std_msgs::ColorRGBA> colors(scene.positions.cols());
+  // Shaded: a light blue-grey cloth (a cloth lying on a sphere reads as cloth, not as a red
+  // ball); the shading below then gives the shape.
+  const std_msgs::ColorRGBA plain = rgba(0.62, 0.70, 0.82, 1.0);
   for (Eigen::Index i = 0; i < scene.positions.cols(); ++i) {
-    colors[i] = strainColor(scene.strain[i], style.strain_color_scale);
+    colors[i] = style.color_mode == ColorMode::kShaded
+                    ? plain
+                    : strainColor(scene.strain[i], style.strain_color_scale);
     if (style.shading) {
       const auto f = static_cast<float>(shadeFactor(normals.col(i)));
       colors[i].r *= f;
@@ -148,6 +153,13 @@ Marker makeObstacle(const MeshObstacle& obstacle, int id, const std_msgs::Header
 }
 
 }  // namespace
+
+ColorMode colorModeFromName(const std::string& name) {
+  if (name == "strain") return ColorMode::kStrain;
+  if (name == "shaded") return ColorMode::kShaded;
+  throw std::invalid_argument("color mode '" + name.substr(0, 64) +
+                              "' must be 'strain' or 'shaded'");
+}
 
 std_msgs::ColorRGBA strainColor(double strain, double scale) {
   const Vec3 compressed(0.23, 0.30, 0.75), rest(0.87, 0.87, 0.87), stretched(0.71, 0.02, 0.15);

@@ -20,7 +20,9 @@ std::string str(const Vec3& v) {
 void ClothSimNode::movePin(const char* source, int pin_id,
                            const geometry_msgs::PointStamped& target) {
   try {
-    sim_.movePin(pin_id, frames_.point(target, "target"));
+    const Vec3 point = frames_.point(target, "target");
+    limits_.checkPoint("target", point);  // a target beyond reach would tear the cloth apart
+    sim_.movePin(pin_id, point);
   } catch (const std::exception& e) {
     refuse(source, "pin " + std::to_string(pin_id) + ": " + e.what());
   }
@@ -36,13 +38,7 @@ bool ClothSimNode::onSpawnSphere(SpawnSphere::Request& req, SpawnSphere::Respons
     const Vec3 center = frames_.point(req.center, "center");
     const Vec3 velocity = frames_.vector(req.center.header, req.velocity, "velocity");
     const SphereCollider sphere = sphereFromRequest(req, center, velocity);
-    const double distance = (center - cloth_center_).norm();
-    if (distance > options_.sphere_cull_distance) {
-      std::ostringstream s;
-      s << "center " << str(center) << " m is " << distance << " m from the cloth, beyond "
-        << "~sphere_cull_distance = " << options_.sphere_cull_distance << " m";
-      throw std::invalid_argument(s.str());
-    }
+    limits_.checkSphere("", sphere, sim_.model().time_step);  // what the cloth can follow
     res.id = sim_.addSphere(sphere);
     return "sphere " + std::to_string(res.id) + " at " + str(center) + " m, radius " +
            std::to_string(sphere.radius) + " m, velocity " + str(velocity) + " m/s in '" +
@@ -87,7 +83,7 @@ bool ClothSimNode::onRemovePin(RemovePin::Request& req, RemovePin::Response& res
 bool ClothSimNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
   return answer("cloth/reset", res, [&] {
     resetSimulation("requested on cloth/reset", /*automatic=*/false);
-    return "reset to the initial state of scene '" + scene_name_ + "'";
+    return "simulation reset to the initial state of scene '" + scene_name_ + "' (pins, spheres)";
   });
 }
 

@@ -7,6 +7,7 @@
 #include "cloth_sim/core/settings/settings_table.h"
 #include "cloth_sim/core/solvers/solver.h"
 #include "cloth_sim/node/conversions.h"
+#include "cloth_sim/node/marker_builder.h"
 
 namespace cloth_sim::node {
 namespace {
@@ -118,6 +119,7 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
   read.get("max_rollbacks", o.max_rollbacks);
   read.get("strain_color_scale", o.strain_color_scale);
   read.get("shading", o.shading);
+  read.get("color_mode", o.color_mode);
   read.get("sphere_cull_distance", o.sphere_cull_distance);
   read.get("max_interactive_pins", o.max_interactive_pins);
   read.get("summary_period", o.summary_period);
@@ -126,6 +128,7 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
   read.get("start_paused", o.start_paused);
   read.get("grasp_frame_timeout", o.grasp_frame_timeout);
   read.get("force_arrow_scale", o.force_arrow_scale);
+  read.get("marker_bandwidth", o.marker_bandwidth);
   validateNodeOptions(o);
   return o;
 }
@@ -162,6 +165,14 @@ void validateNodeOptions(const NodeOptions& o) {
   }
   if (o.max_interactive_pins < 0) {
     fail("max_interactive_pins", str(o.max_interactive_pins) + " must be >= 0 (0 = none)");
+  }
+  try {
+    colorModeFromName(o.color_mode);
+  } catch (const std::invalid_argument& e) {
+    fail("color_mode", e.what());
+  }
+  if (!std::isfinite(o.marker_bandwidth) || o.marker_bandwidth <= 0.0) {
+    fail("marker_bandwidth", str(o.marker_bandwidth) + " bytes/s must be finite and > 0");
   }
   if (!std::isfinite(o.summary_period) || o.summary_period < 0.0) {
     fail("summary_period", str(o.summary_period) + " s must be finite and >= 0 (0 = off)");

@@ -1,5 +1,6 @@
 #include "cloth_sim/node/pin_handles.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -16,7 +17,6 @@ using visualization_msgs::InteractiveMarkerControl;
 using visualization_msgs::InteractiveMarkerFeedback;
 
 constexpr double kSamePose = 1e-9;   ///< m; a smaller difference is not worth a republish
-constexpr double kHandleSize = 0.2;  ///< m across
 
 /// A control whose local x axis is (x, y, z): the axis of MOVE_AXIS, the normal of MOVE_PLANE.
 InteractiveMarkerControl makeControl(const char* name, std::uint8_t mode, double x, double y,
@@ -86,10 +86,15 @@ InteractiveMarker makePinHandle(int pin_id, const Vec3& target, const std::strin
   return m;
 }
 
+double handleSizeFor(double cloth_size) {
+  return std::isfinite(cloth_size) ? std::clamp(0.1 * cloth_size, 0.02, 0.5) : 0.2;
+}
+
 PinHandles::PinHandles(const std::string& topic_ns, std::string frame_id, int max_handles,
-                       MoveCallback on_move)
+                       MoveCallback on_move, double handle_size)
     : server_(topic_ns, "", /*spin_thread=*/false),
       frame_id_(std::move(frame_id)),
+      handle_size_(handle_size),
       max_handles_(max_handles),
       on_move_(std::move(on_move)) {}
 
@@ -119,7 +124,7 @@ void PinHandles::sync(const std::vector<Pin>& pins) {
   for (const auto& [id, target] : wanted) {
     auto it = shown_.find(id);
     if (it == shown_.end()) {
-      server_.insert(makePinHandle(id, target, frame_id_, kHandleSize),
+      server_.insert(makePinHandle(id, target, frame_id_, handle_size_),
                      [this](const auto& feedback) { onFeedback(feedback); });
       shown_.emplace(id, target);
       changed = true;

@@ -88,7 +88,9 @@ TEST(Substeps, AKinematicSphereMovedOnceAFrameSweepsAcrossItsSubsteps) {
 
 TEST(Substeps, ARolledBackFrameKeepsTheUsersEdits) {
   SceneConfig scene = hangingScene(60, 4);
-  scene.options.divergence_strain = 1e-12;  // every frame "diverges" and is rolled back
+  // Explicit Euler far past its stability limit (h omega ~ 400) diverges within the frame.
+  scene.options.solver = "explicit_euler";
+  scene.grid.material.structural = 1e9;
   Simulation sim = makeSimulation(scene);
   const Pin pin = sim.pins().pins().front();
   const SphereCollider s = sim.colliders().spheres().front();
@@ -104,6 +106,56 @@ TEST(Substeps, ARolledBackFrameKeepsTheUsersEdits) {
   ASSERT_NE(moved, nullptr);
   EXPECT_TRUE(moved->center.isApprox(s.center + Vec3(0.3, 0.0, 0.0), 1e-12));
   EXPECT_EQ(moved->velocity, Vec3(1.0, 0.0, 0.0));
+}
+
+TEST(Substeps, AFarPinTargetIsApproachedAtTheSpeedLimitWithoutRollback) {
+  // Issue 13: a target 15 m away yanked the pin there in one frame; every frame then diverged
+  // and was rolled back. Now it is approached at maxPinMove() per frame.
+  Simulation sim = makeSimulation(hangingScene(60, 4));
+  const Pin pin = sim.pins().pins().front();
+  const double limit = sim.maxPinMove();
+  EXPECT_NEAR(limit, 4 * (0.5 / 9) * 100 / 10.0, 1e-12);  // substeps x spacing x strain / 10
+  const Vec3 far = pin.target + Vec3(15.0, 0.0, 0.0);
+  sim.movePin(pin.id, far);
+  Vec3 last = pin.target;
+  for (int f = 0; f < 12; ++f) {
+    ASSERT_EQ(sim.step().status, StepStatus::kOk) << "frame " << f;
+    const Vec3 at = sim.state().positions.col(pin.vertex);  // a hard pin: on its moving target
+    EXPECT_LE((at - last).norm(), limit * (1 + 1e-12));
+    last = at;
+  }
+  EXPECT_EQ(sim.pins().find(pin.id)->target, far);  // the request stands
+  EXPECT_LT((last - far).norm(), 1e-9);  // 15 m at 2.2 m per frame: there after 7 frames
+}
+
+TEST(Substeps, ResetClothKeepsThePinsAndSpheresTheUserAdded) {
+  // Issue 13: the automatic reset after repeated rollbacks wiped the user's pins and spheres.
+  Simulation sim = makeSimulation(hangingScene(60, 4));
+  const Points start = sim.state().positions;
+  for (int f = 0; f < 10; ++f) sim.step();
+  const int pin = sim.addPinHere(55);
+  const Pin moved = sim.pins().pins().front();
+  sim.movePin(moved.id, moved.target + Vec3(0.05, 0.0, 0.0));
+  SphereCollider ball;
+  ball.center = Vec3(0.0, -0.5, 0.5);
+  ball.radius = 0.05;
+  ball.mass = 0.01;
+  ball.velocity = Vec3(0.0, 1.0, 0.0);
+  const int sphere = sim.addSphere(ball);
+  sim.step();
+  sim.resetCloth();
+  EXPECT_EQ(sim.state().positions, start);
+  EXPECT_EQ(sim.state().velocities.cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_NE(sim.pins().find(pin), nullptr);
+  EXPECT_EQ(sim.pins().find(moved.id)->target, moved.target + Vec3(0.05, 0.0, 0.0));
+  ASSERT_NE(sim.colliders().findSphere(sphere), nullptr);
+  EXPECT_EQ(sim.colliders().findSphere(sphere)->velocity, Vec3::Zero());  // a ball is stopped
+  EXPECT_EQ(sim.colliders().spheres().size(), 2u);
+  for (int f = 0; f < 30; ++f) ASSERT_EQ(sim.step().status, StepStatus::kOk);
+  // reset() is the full one: back to the scene's pins and spheres.
+  sim.reset();
+  EXPECT_EQ(sim.pins().find(pin), nullptr);
+  EXPECT_EQ(sim.colliders().spheres().size(), 1u);
 }
 
 TEST(Substeps, ChangingThemRefactorsOnceAndKeepsTheFrame) {

@@ -14,6 +14,7 @@
 #include <cloth_sim/RemovePin.h>
 #include <cloth_sim/RemoveSphere.h>
 #include <cloth_sim/SpawnSphere.h>
+#include <std_srvs/Trigger.h>
 
 #include "ros_test_util.h"
 
@@ -54,8 +55,8 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   probe();
   const auto ok = stamped("world", 0.0, 0.0, 1.0);
   std::vector<std::pair<SpawnSphere::Request, std::string>> cases = {
-      {sphere(ok, 0.0), "radius 0 m must be finite and > 0"},
-      {sphere(ok, -0.1), "radius -0.1 m must be finite and > 0"},
+      {sphere(ok, 0.0), "radius 0 m must be in (0, 1e+06]"},
+      {sphere(ok, -0.1), "radius -0.1 m must be in (0, 1e+06]"},
       {sphere(ok, kNaN), "radius nan m"},
       {sphere(stamped("world", kNaN, 0.0, 1.0), 0.1), "center (nan, 0, 1) is not finite"},
       {sphere(stamped("nowhere", 0.0, 0.0, 1.0), 0.1), "center: frame 'nowhere' is unknown"},
@@ -63,7 +64,7 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   };
   SpawnSphere::Request r = sphere(ok, 0.1);
   r.mass = -1.0;
-  cases.emplace_back(r, "mass -1 kg must be finite and >= 0");
+  cases.emplace_back(r, "mass -1 kg must be in [0, 1e+09] (0 = kinematic)");
   r.mass = 2.0;
   r.restitution = 1.5;
   cases.emplace_back(r, "restitution 1.5 must be in [0, 1]");
@@ -73,13 +74,23 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   cases.emplace_back(r, "velocity (inf, 0, 0) is not finite");
   r.velocity.x = 0.0;
   r.friction = -1.0;
-  cases.emplace_back(r, "friction -1 must be finite and >= 0");
+  cases.emplace_back(r, "friction -1 must be in [0, 100]");
+  // Issue 13: absurd but finite spheres were answered success and then wrecked the scene.
+  r.friction = 0.0;
+  cases.emplace_back(sphere(ok, 1e6), "radius 1e+06 m must be at most the cloth's size, 1 m");
+  r.velocity.y = 1e9;
+  cases.emplace_back(r, "its speed 1e+09 m/s must be at most its radius per implicit step");
+  r.velocity.y = 0.0;
+  r.mass = 1e6;
+  cases.emplace_back(r, "mass 1e+06 kg must be at most 100 times the cloth's mass");
+  r.mass = 1e-300;
+  cases.emplace_back(r, "must be 0 (kinematic) or at least 1e-09 times the cloth's mass");
   for (const auto& [req, why] : cases) {
     const auto res = call<SpawnSphere>("cloth/spawn_sphere", req);
     expectRefused(res, why);
   }
   // A refused service call is logged too.
-  EXPECT_TRUE(probe().waitForLog("cloth/spawn_sphere: radius 0 m must be finite", 5.0));
+  EXPECT_TRUE(probe().waitForLog("cloth/spawn_sphere: radius 0 m must be in (0, 1e+06]", 5.0));
 }
 
 TEST(BadInput, RemoveSphereAndRemovePinRefuseUnknownIds) {
@@ -136,7 +147,10 @@ TEST(BadInput, PinMoveRefusalsAreLoggedThrottledPerKind) {
   send(99, stamped("world", 0.0, 0.0, 1.0));
   send(0, stamped("world", kNaN, 0.0, 1.0));
   send(0, stamped("nowhere", 0.0, 0.0, 1.0));
+  send(0, stamped("world", 1e6, 0.0, 1.0));  // issue 13: accepted, then 30 rollbacks and a reset
   EXPECT_TRUE(p.waitForLog("cloth/pin_move: pin 99: no pin with id 99", 5.0));
+  EXPECT_TRUE(p.waitForLog("cloth/pin_move: pin 0: target (1e+06, 0, 1) m is", 5.0));
+  EXPECT_TRUE(p.waitForLog("beyond ~sphere_cull_distance = 20 m", 5.0));
   EXPECT_TRUE(p.waitForLog("cloth/pin_move: pin 0: target (nan, 0, 1) is not finite", 5.0));
   EXPECT_TRUE(p.waitForLog("cloth/pin_move: pin 0: target: frame 'nowhere' is unknown", 5.0));
 
@@ -171,6 +185,20 @@ TEST(BadInput, NothingChangedAndTheNodeKeepsPublishing) {
     }
   }
   for (const auto& a : p.collectMarkers(0.5)) EXPECT_TRUE(allFinite(a));
+}
+
+TEST(BadInput, EachResetIsLoggedOnce) {
+  // Issue 13: each reset logged two lines (the service's answer and the reset itself).
+  NodeProbe& p = probe();
+  const std::string line = "reset to the initial state";
+  const int before = p.countLogs(line);
+  for (int k = 0; k < 3; ++k) {
+    const auto res = call<std_srvs::Trigger>("cloth/reset", std_srvs::Trigger::Request());
+    EXPECT_TRUE(res.success) << res.message;
+  }
+  EXPECT_TRUE(p.waitForLog("cloth/reset: simulation " + line, 5.0));
+  ros::WallDuration(1.0).sleep();  // /rosout is asynchronous: let every line arrive
+  EXPECT_EQ(p.countLogs(line) - before, 3);
 }
 
 /// Runs cloth_sim_node with @p args against the test's master; returns its exit status and

@@ -200,6 +200,23 @@ TEST_F(MarkerBuilderTest, ShadingDarkensByTheShadeFactorOfTheVertexNormal) {
   EXPECT_LT(f, 1.0);
 }
 
+TEST_F(MarkerBuilderTest, ShadedModeIsOneColourShadedWhateverTheStrain) {
+  // Issue 13: the cloth lying on drape's sphere, stretched, was saturated red: a red ball.
+  strain_.setConstant(0.5);  // far past the full-colour strain
+  style_.color_mode = ColorMode::kShaded;
+  const MarkerBuild b = build();
+  const Marker& cloth = *find(b, kClothNs)[0];
+  const double f = shadeFactor(Vec3(0, 0, 1));
+  for (const auto& c : cloth.colors) {
+    EXPECT_NEAR(c.r, f * 0.62, 1e-6);
+    EXPECT_NEAR(c.g, f * 0.70, 1e-6);
+    EXPECT_NEAR(c.b, f * 0.82, 1e-6);
+  }
+  EXPECT_EQ(colorModeFromName("shaded"), ColorMode::kShaded);
+  EXPECT_EQ(colorModeFromName("strain"), ColorMode::kStrain);
+  EXPECT_THROW(colorModeFromName("red"), std::invalid_argument);
+}
+
 TEST_F(MarkerBuilderTest, MeshObstaclesAreDrawnOnlyWhenGiven) {
   EXPECT_TRUE(find(build(), kObstaclesNs).empty());
   TriangleMesh mesh;

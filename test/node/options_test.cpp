@@ -155,6 +155,8 @@ TEST(NodeOptions, EveryRuleIsCheckedAndNamesItsParameter) {
       {"sphere_cull_distance", XmlRpc::XmlRpcValue(-1.0), "must be finite and > 0"},
       {"max_interactive_pins", XmlRpc::XmlRpcValue(-1), "must be >= 0"},
       {"summary_period", XmlRpc::XmlRpcValue(-0.5), "must be finite and >= 0"},
+      {"marker_bandwidth", XmlRpc::XmlRpcValue(0.0), "bytes/s must be finite and > 0"},
+      {"color_mode", XmlRpc::XmlRpcValue("red"), "color mode 'red' must be 'strain' or 'shaded'"},
   };
   for (const BadValue& c : cases) {
     XmlRpc::XmlRpcValue p = params();

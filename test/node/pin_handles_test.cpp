@@ -57,5 +57,14 @@ TEST(PinHandle, FreeAxisAndPlaneDragsAtTheTarget) {
   EXPECT_TRUE(axes[2].isApprox(Vec3::UnitZ(), 1e-9)) << axes[2];
 }
 
+TEST(PinHandles, ScaleWithTheCloth) {
+  // Issue 13: 0.2 m handles buried a 1 m cloth.
+  EXPECT_DOUBLE_EQ(handleSizeFor(1.0), 0.1);
+  EXPECT_DOUBLE_EQ(handleSizeFor(2.4), 0.24);
+  EXPECT_DOUBLE_EQ(handleSizeFor(0.05), 0.02);  // still grabbable
+  EXPECT_DOUBLE_EQ(handleSizeFor(100.0), 0.5);
+  EXPECT_EQ(makePinHandle(3, Vec3(0, 0, 1), "world", handleSizeFor(1.0)).scale, 0.1f);
+}
+
 }  // namespace
 }  // namespace cloth_sim::node

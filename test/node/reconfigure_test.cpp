@@ -8,6 +8,9 @@
 #include <dynamic_reconfigure/Reconfigure.h>
 #include <gtest/gtest.h>
 
+#include <cloth_sim/AddPin.h>
+#include <cloth_sim/SpawnSphere.h>
+
 #include "ros_test_util.h"
 
 namespace cloth_sim::test {
@@ -117,6 +120,22 @@ TEST(Reconfigure, SubstepsSplitTheFrameWhichStaysTheStep) {
   EXPECT_TRUE(p.waitForState([](const ClothState& c) { return c.substeps == 1; }, 3.0));
 }
 
+std::string strIn(const dynamic_reconfigure::Config& c, const std::string& name) {
+  for (const auto& p : c.strs) {
+    if (p.name == name) return p.value;
+  }
+  ADD_FAILURE() << name << " not in the reported config";
+  return "";
+}
+
+TEST(Reconfigure, ColorModeSwitchesAndAnUnknownOneIsPutBack) {
+  // Issue 13: a shaded colour mode beside strain (drape's stretched cloth read as a red ball).
+  probe();
+  EXPECT_EQ(strIn(reconfigure("color_mode", std::string("shaded")), "color_mode"), "shaded");
+  EXPECT_EQ(strIn(reconfigure("color_mode", std::string("red")), "color_mode"), "shaded");
+  EXPECT_EQ(strIn(reconfigure("color_mode", std::string("strain")), "color_mode"), "strain");
+}
+
 TEST(Reconfigure, AnUnstableSolverIsRolledBackThenResetAndDiagnosed) {
   NodeProbe& p = probe();
   ros::NodeHandle nh;
@@ -134,6 +153,18 @@ TEST(Reconfigure, AnUnstableSolverIsRolledBackThenResetAndDiagnosed) {
         }
       });
 
+  // The user's edits before the trouble: a pin on the bottom-left corner and a still sphere
+  // beside the sheet. Issue 13: the automatic reset wiped both.
+  AddPin::Request pin_req;
+  pin_req.vertex = 11 * 12;  // row 11, col 0
+  const auto pin = call<AddPin>("cloth/add_pin", pin_req);
+  ASSERT_TRUE(pin.success) << pin.message;
+  SpawnSphere::Request sphere_req;
+  sphere_req.center = stamped("world", 0.0, 0.4, 1.0);
+  sphere_req.radius = 0.05;
+  const auto sphere = call<SpawnSphere>("cloth/spawn_sphere", sphere_req);
+  ASSERT_TRUE(sphere.success) << sphere.message;
+
   // Explicit Euler with 500 N/m springs: h omega is far above 2, every step blows up.
   reconfigure("solver", std::string("explicit_euler"));
   const auto failed = p.waitForState([](const ClothState& c) { return c.status != "ok"; }, 5.0);
@@ -142,6 +173,15 @@ TEST(Reconfigure, AnUnstableSolverIsRolledBackThenResetAndDiagnosed) {
   const auto reset = p.waitForState([](const ClothState& c) { return c.divergence_resets > 0; },
                                     10.0);
   ASSERT_TRUE(reset) << "no automatic reset after repeated rollbacks";
+  const auto has_pin = [&](const ClothState& c) {
+    return std::any_of(c.pins.begin(), c.pins.end(), [&](const PinInfo& i) {
+      return i.id == pin.id && i.vertex == pin_req.vertex;
+    });
+  };
+  EXPECT_TRUE(has_pin(*reset)) << "the user's pin did not survive the automatic reset";
+  ASSERT_EQ(reset->spheres.size(), 1u) << "the user's sphere did not survive the automatic reset";
+  EXPECT_EQ(reset->spheres[0].id, sphere.id);
+  EXPECT_TRUE(p.waitForLog("pins and spheres kept", 5.0));
   for (const auto& a : p.collectMarkers(2.0)) EXPECT_TRUE(allFinite(a));
   {
     const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(5.0);
@@ -158,11 +198,14 @@ TEST(Reconfigure, AnUnstableSolverIsRolledBackThenResetAndDiagnosed) {
   }
 
   reconfigure("solver", std::string("local_global"));
-  EXPECT_TRUE(p.waitForState(
+  const auto recovered = p.waitForState(
       [](const ClothState& c) {
         return c.solver == "local_global" && c.status == "ok" && c.consecutive_failures == 0;
       },
-      5.0));
+      5.0);
+  ASSERT_TRUE(recovered);
+  EXPECT_TRUE(has_pin(*recovered));
+  EXPECT_EQ(recovered->spheres.size(), 1u);
 }
 
 }  // namespace

@@ -3,8 +3,10 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -84,8 +86,11 @@ TEST(RunScene, FoldScriptCountsIntersectionsAndSelfCollisionSwitches) {
 }
 
 TEST(RunScene, ARunTooLongToCountIsRefused) {
-  // 1 s of 1e-10 s frames: 1e10 frames overflowed the count into a run of one step.
+  // 1 s of 1e-10 s frames: 1e10 frames overflowed the count into a run of one step (a frame
+  // under 1e-6 s is now refused by --dt itself; 1e-6 s frames for 1000 s are 1e9 frames).
   EXPECT_EQ(run("--scene " + kScene + " --dt 1e-10 --duration 1"), 1);
+  EXPECT_EQ(run("--scene " + kScene + " --dt 1e-6 --duration 1000"), 1);
+  EXPECT_EQ(run("--scene " + kScene + " --duration 1e-300"), 1);  // no frame at all
   EXPECT_EQ(run("--scene " + kScene + " --substeps 0"), 1);
 }
 
@@ -104,6 +109,85 @@ TEST(RunScene, BadArgumentsExitWithOne) {
   EXPECT_EQ(run("--scene " + kScene + " --csv a.csv --json b.json"), 1);
   EXPECT_EQ(run("--scene " + kScene + " --duration 0.02 --csv /nonexistent/dir/x.csv"), 1);
   EXPECT_EQ(run("--help"), 0);
+}
+
+/// The runner's exit status, with what it printed on stderr in @p err, run in @p dir.
+int runCapturing(const std::string& dir, const std::string& args, std::string& err) {
+  const std::string err_file = dir + "/stderr.txt";
+  const int status = std::system(("cd '" + dir + "' && " + kRunner + " " + args + " > /dev/null 2> " +
+                                  err_file).c_str());
+  err = slurp(err_file);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// @p text quoted for the shell.
+std::string quoted(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+TEST(RunScene, RandomBadOptionsAreRefusedByNameOrRunWithoutRollback) {
+  // Issue 13: every runner option with NaN, infinities, huge and tiny numbers, wrong types and
+  // long strings (fixed seed, printed). Each run exits 1 naming the option, or 0: ran with no
+  // rolled-back step (2) and no crash. A small scene keeps the accepted runs short.
+  const std::string dir = ::testing::TempDir() + "cloth_sim_run_random";
+  ASSERT_EQ(std::system(("mkdir -p '" + dir + "'").c_str()), 0);
+  const std::string scene = dir + "/small.yaml";
+  std::ofstream(scene) << "cloth: {grid: {rows: 6, cols: 6, size: [0.5, 0.5], position: [0, 0, 1]}}\n"
+                          "material: {springs: {structural: 500, shear: 50}}\n"
+                          "pins: [{row: 0, col: 0}, {row: 0, col: 5}]\n";
+  const std::vector<std::string> options = {
+      "--solver", "--iterations", "--substeps", "--dt", "--duration", "--tolerance",
+      "--linear-solver", "--integrator", "--csv", "--json", "--positions", "--scene",
+      "--warm-start", "--quiet", "--check"};
+  const std::vector<std::string> values = {
+      "nan", "inf", "-inf", "1e308", "-1e308", "1e300", "1e-300", "5e-324", "0", "-0", "-1",
+      "0.5", "1", "3", "1e5", "100000", "2147483648", "99999999999999999999", "abc", "",
+      "newton", "chebyshev", "bdf2", "cholmod", "1/60", "0x10", "true", "-", "/nonexistent/x",
+      std::string(100000, 'x')};
+  constexpr unsigned kSeed = 13;
+  constexpr int kCases = 150;
+  std::printf("[measured] runner options: seed %u, %d cases\n", kSeed, kCases);
+  std::mt19937 rng(kSeed);
+  std::uniform_int_distribution<std::size_t> pick_option(0, options.size() - 1),
+      pick_value(0, values.size() - 1);
+  int refused = 0, ran = 0;
+  for (int k = 0; k < kCases; ++k) {
+    const std::string& option = options[pick_option(rng)];
+    const std::string& value = values[pick_value(rng)];
+    SCOPED_TRACE("case " + std::to_string(k) + ": " + option + "=" + value.substr(0, 40));
+    // --duration short unless it is the option tried; --scene the small one unless tried.
+    std::string args = option == "--scene" ? "" : "--scene " + scene;
+    if (option != "--duration") args += " --duration 0.05";
+    if (option == "--iterations" || option == "--substeps") args += " --dt 0.1";
+    args += " " + quoted(option + "=" + value);
+    std::string err;
+    const int code = runCapturing(dir, args, err);
+    EXPECT_TRUE(code == 0 || code == 1) << "exit " << code << ": " << err.substr(0, 300);
+    if (code == 1) {
+      ++refused;
+      EXPECT_NE(err.find(option), std::string::npos) << err.substr(0, 300);
+      EXPECT_LT(err.size(), 1000u) << "a long value must not be echoed whole";
+    } else {
+      ++ran;
+    }
+  }
+  std::printf("[measured] runner options: %d refused by name, %d ran cleanly\n", refused, ran);
+  EXPECT_GT(refused, 0);
+  EXPECT_GT(ran, 0);
+}
+
+TEST(RunScene, CheckBuildsTheSceneAndRunsNothing) {
+  // scripts/run_demo.sh checks a scene this way before launching (it used --duration 1e-9,
+  // which now is less than one frame and refused).
+  const std::string csv = tmp("check.csv");
+  std::remove(csv.c_str());
+  EXPECT_EQ(run("--scene " + kScene + " --check --csv " + csv), 0);
+  EXPECT_EQ(run("--scene " + kScene + " --check --substeps 0"), 1);
+  const std::string bad = tmp("check_bad.yaml");
+  std::ofstream(bad) << "time_step: 1/60\ntime_step: 1/30\n";
+  EXPECT_EQ(run("--scene " + bad + " --check"), 1);
 }
 
 TEST(RunDemo, ABadSceneStopsWithAFailingStatusBeforeLaunching) {

@@ -2,9 +2,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -25,25 +28,62 @@ struct Options {
   std::optional<int> resolution;
   std::string self_collision;
   double duration = 5.0;
-  bool quiet = false, warm_start = false;
+  bool quiet = false, warm_start = false, check = false;
 };
+
+/// Values longer than this are cut in messages: a 100 kB argument is not echoed back whole.
+constexpr std::size_t kShown = 64;
+
+/// @p text, or its first kShown characters and how long it was.
+std::string clip(const std::string& text) {
+  if (text.size() <= kShown) return text;
+  return text.substr(0, kShown) + "... (" + std::to_string(text.size()) + " characters)";
+}
 
 /// A CLI11 validator: a number in @p range, described by @p requirement (its rule and unit).
 CLI::Validator inRange(cloth_sim::Range range, const std::string& requirement) {
   return CLI::Validator(
       [range, requirement](std::string& text) -> std::string {
-        double v = 0.0;
-        try {
-          std::size_t used = 0;
-          v = std::stod(text, &used);
-          if (used != text.size()) return "'" + text + "' is not a number";
-        } catch (const std::exception&) {
-          return "'" + text + "' is not a number";
+        // strtod, not stod: a denormal such as 5e-324 is a number (out of range, not "not one").
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size()) {
+          return "'" + clip(text) + "' is not a number";
         }
-        if (!range.contains(v)) return "value " + text + " must be " + requirement;
+        if (!range.contains(v)) return "value " + clip(text) + " must be " + requirement;
         return "";
       },
       requirement, "");
+}
+
+/// A CLI11 validator: @p names lists the allowed values (checked here, so that a long value is
+/// quoted cut, and the list is given).
+CLI::Validator oneOf(const std::vector<std::string>& names) {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return CLI::Validator(
+      [names, list](std::string& text) -> std::string {
+        if (std::find(names.begin(), names.end(), text) != names.end()) return "";
+        return "'" + clip(text) + "' is not one of " + list;
+      },
+      "one of " + list, "");
+}
+
+/// A CLI11 validator: an existing file, its name cut in the message.
+const CLI::Validator kExistingFile(
+    [](std::string& path) -> std::string {
+      return std::ifstream(path) ? "" : "cannot read '" + clip(path) + "'";
+    },
+    "FILE", "");
+
+/// Runs @p open (which writes option @p option's file @p path); its failure names the option.
+template <class Open>
+void openNamed(const char* option, const std::string& path, Open open) {
+  try {
+    open();
+  } catch (const std::exception&) {
+    throw std::runtime_error(std::string(option) + ": cannot write '" + clip(path) + "'");
+  }
 }
 
 /// A CLI11 validator for the range of @p setting (settings_table.h).
@@ -58,9 +98,9 @@ int main(int argc, char** argv) {
   CLI::App app{"cloth_sim headless runner: steps a scene file without ROS.\n"
                "Exit status: 0 ok, 1 bad arguments or scene, 2 some steps were rolled back."};
   Options o;
-  app.add_option("--scene", o.scene_path, "scene YAML file")->required()->check(CLI::ExistingFile);
+  app.add_option("--scene", o.scene_path, "scene YAML file")->required()->check(kExistingFile);
   app.add_option("--solver", o.solver, "solver (default: the scene's)")
-      ->check(CLI::IsMember(solverNames()));
+      ->check(oneOf(solverNames()));
   app.add_option("--iterations", o.iterations, "iterations per step (default: the scene's)")
       ->check(allowedBy(settings::kIterations));
   app.add_option("--substeps", o.substeps,
@@ -73,9 +113,9 @@ int main(int argc, char** argv) {
   app.add_option("--tolerance", o.tolerance, "stop iterating below this relative change (0 = never)")
       ->check(allowedBy(settings::kTolerance));
   app.add_option("--linear-solver", o.linear_solver, "global step solve (default: fused)")
-      ->check(CLI::IsMember(linearSolverNames()));
+      ->check(oneOf(linearSolverNames()));
   app.add_option("--integrator", o.integrator, "implicit_euler or bdf2 (default: the scene's)")
-      ->check(CLI::IsMember(integratorNames()));
+      ->check(oneOf(integratorNames()));
   auto* csv = app.add_option("--csv", o.csv, "per-step CSV to this file ('-' = stdout)");
   app.add_option("--json", o.json, "per-step JSON to this file ('-' = stdout)")->excludes(csv);
   app.add_option("--positions", o.positions, "final positions (CSV: particle,x,y,z in m) to this file");
@@ -92,10 +132,17 @@ int main(int argc, char** argv) {
                  "carry the scene's first pin over the cloth to the vertex farthest from it in "
                  "this many s, then let go (the fold scene's script)")
       ->check(inRange(Range::above(0), "> 0 s"));
+  app.add_flag("--check", o.check,
+               "load and build the scene with the options, run nothing: exit 0 if it can be run");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 1;  // --help is 0; any bad argument is 1
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    // CLI11's own messages quote the value whole: cut, as every message here.
+    const std::string what = e.what();
+    std::cerr << (what.size() <= 4 * kShown ? what : what.substr(0, 4 * kShown) + "... (cut)")
+              << "\nRun with --help for more information.\n";
+    return 1;  // any bad argument is 1
   }
 
   try {
@@ -109,7 +156,14 @@ int main(int argc, char** argv) {
     if (!o.integrator.empty()) overrides.integrator = integratorFromName(o.integrator);
     if (o.warm_start) overrides.warm_start = true;
     if (!o.self_collision.empty()) overrides.self_collision = o.self_collision == "on";
-    SceneConfig scene = applyOverrides(loadSceneFile(o.scene_path), overrides);
+    SceneConfig loaded;
+    try {
+      loaded = loadSceneFile(o.scene_path);
+    } catch (const std::exception& e) {
+      const std::string what = e.what();  // long only when the path is: cut it then
+      throw std::runtime_error("--scene " + (what.size() <= 16 * kShown ? what : clip(what)));
+    }
+    SceneConfig scene = applyOverrides(std::move(loaded), overrides);
     if (o.resolution) {
       if (scene.cloth_kind != SceneConfig::ClothKind::kGrid) {
         throw std::invalid_argument("--resolution needs a grid cloth; " + o.scene_path +
@@ -119,26 +173,32 @@ int main(int argc, char** argv) {
       scene.options.self_contact.thickness = 0.0;  // the scene's was for its own spacing
     }
     Simulation sim = makeSimulation(scene);
+    if (o.check) return 0;  // the scene and the options are usable (scripts/run_demo.sh)
     std::optional<tools::FoldScript> fold;
     if (o.fold) fold.emplace(sim, *o.fold);
     const double h = sim.frameTime();
     // A count derived from user numbers is checked before it is cast: 1e-10 s frames for 1 s
     // would overflow an int into a run of one step.
     const double frames = std::round(o.duration / h);
-    if (!(frames <= kMaxFrames)) {
-      throw std::invalid_argument("--duration " + std::to_string(o.duration) + " s at a frame of " +
-                                  std::to_string(h) + " s is " + std::to_string(frames) +
-                                  " frames, more than the " + std::to_string(kMaxFrames) +
-                                  " a run can take");
+    if (!(frames <= kMaxFrames) || !(frames >= 1.0)) {
+      throw std::invalid_argument(
+          "--duration " + formatNumber(o.duration) + " s at a frame (--dt, else the scene's " +
+          "time_step) of " + formatNumber(h) +
+          " s is " + formatNumber(frames) + " frames: a run takes 1 to " +
+          formatNumber(kMaxFrames) + " frames (--duration / frame, rounded)");
     }
-    const int steps = std::max(1, static_cast<int>(frames));
+    const int steps = static_cast<int>(frames);
     const int per_second = static_cast<int>(std::clamp(std::round(1.0 / h), 1.0, frames + 1.0));
     const bool table_on_stdout = o.csv == "-" || o.json == "-";
     const bool summary = !o.quiet && !table_on_stdout;
 
     std::optional<tools::StepLog> log;
-    if (!o.csv.empty()) log.emplace(o.csv, tools::StepLog::Format::kCsv);
-    if (!o.json.empty()) log.emplace(o.json, tools::StepLog::Format::kJson);
+    if (!o.csv.empty()) {
+      openNamed("--csv", o.csv, [&] { log.emplace(o.csv, tools::StepLog::Format::kCsv); });
+    }
+    if (!o.json.empty()) {
+      openNamed("--json", o.json, [&] { log.emplace(o.json, tools::StepLog::Format::kJson); });
+    }
     if (log) {
       log->begin(scene.name, sim.solver().name(), sim.model().particleCount(),
                  static_cast<int>(sim.model().springs.size()), h, sim.solverSettings().max_iterations);
@@ -177,7 +237,10 @@ int main(int argc, char** argv) {
     }
     progress.finish();
     if (log) log->end();
-    if (!o.positions.empty()) tools::writePositions(o.positions, sim.state().positions);
+    if (!o.positions.empty()) {
+      openNamed("--positions", o.positions,
+                [&] { tools::writePositions(o.positions, sim.state().positions); });
+    }
     return failures == 0 ? 0 : 2;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -92,6 +92,11 @@ class Simulation {
   /// the contact warm start forgotten, so the same inputs after a reset give the same states bit
   /// for bit.
   void reset();
+  /// The recovery from repeated divergence: the cloth back to its initial state (positions,
+  /// zero velocities) and the dynamic spheres stopped, keeping every pin (with its target) and
+  /// every sphere as it is now, so the user's edits survive. Each pin whose target is away from
+  /// its particle's initial position is moved there across the next frame's substeps.
+  void resetCloth();
 
   // --- run-time edits -------------------------------------------------------------------------
   /// Pins @p vertex at @p target (N/m stiffness, 0 = hard); returns the pin id.
@@ -100,7 +105,9 @@ class Simulation {
   int addPinHere(int vertex, double stiffness = 0.0);
   /// Removes pin @p id; refused for a pin of a grasp (release the grasp instead).
   void removePin(int id);
-  /// Moves pin @p id's target; refused for a pin of a grasp (its frame moves it).
+  /// Sets pin @p id's target (m). The pin moves there across the next frame's substeps, at most
+  /// maxPinMove() per frame: a target farther away is reached over several frames.
+  /// Refused for a pin of a grasp (its frame moves it).
   void movePin(int id, const Vec3& target);
   /// Holds @p vertices (distinct, in range, not pinned yet, at least one) rigidly by a frame now
   /// at @p pose: each becomes a hard pin where it is now. From the next substep on, the targets
@@ -136,6 +143,8 @@ class Simulation {
   /// implicit step, this divided by SolverSettings::substeps).
   double frameTime() const { return frame_time_; }
   const State& state() const { return state_; }
+  /// m, the positions the simulation started from (and reset() returns to).
+  const Points& initialPositions() const { return initial_state_.positions; }
   const PinSet& pins() const { return pins_; }
   /// What the cloth exerts on each pin (N) after the last substep, in pins().pins() order
   /// (PinReactions); zero after a pin-set change or a rollback until the next step.
@@ -159,6 +168,9 @@ class Simulation {
   int countIntersections();
   /// Numeric factorizations done by all solvers so far.
   int factorizationCount() const;
+  /// The farthest a pin's target moves in one frame (m): substeps x the shortest spring's rest
+  /// length x divergence_strain / 10. A target set farther away is approached at that speed.
+  double maxPinMove() const;
   /// Bumped when h, a stiffness, a mass or the pin set changes (see SolverInput).
   std::uint64_t revision() const { return revision_; }
 
@@ -183,6 +195,12 @@ class Simulation {
   /// Kinematic spheres moved since the last frame: their pending jumps become velocities for
   /// the frame (sign +1) or are taken back out of them (-1).
   void applySphereJumps(double sign);
+  /// Where @p pin's target stands at the end of the coming frame: its target, or maxPinMove()
+  /// of the way there from where it stood at the end of the last frame.
+  Vec3 frameEndTarget(const Pin& pin) const;
+  /// Every pin's target starts at its particle's current position (start, reset): a target away
+  /// from it is then approached at the pins' speed limit instead of in one jerk.
+  void startPinsAtParticles();
   /// Rolls the cloth and spheres back to @p state and @p colliders, keeping the user's edits.
   void rollBack(const State& state, const Colliders& colliders);
 
@@ -206,6 +224,7 @@ class Simulation {
   std::unique_ptr<IntersectionCounter> intersections_;  ///< built at first use
   double frame_time_ = 0.0;    ///< s, see frameTime()
   std::vector<std::pair<int, Vec3>> frame_targets_;  ///< pin id -> target at the last frame's end
+  double shortest_rest_length_ = 0.0;  ///< m, of all springs (maxPinMove)
   std::vector<SphereJump> sphere_jumps_;
   std::vector<Grasp> grasps_;
   int next_grasp_id_ = 0;

@@ -29,6 +29,7 @@
 #include <cloth_sim/SpawnSphere.h>
 #include <cloth_sim/Step.h>
 
+#include "cloth_sim/core/io/scene_limits.h"
 #include "cloth_sim/core/simulation.h"
 #include "cloth_sim/node/frame_resolver.h"
 #include "cloth_sim/node/grasp_frames.h"
@@ -37,6 +38,7 @@
 #include "cloth_sim/node/options.h"
 #include "cloth_sim/node/pin_handles.h"
 #include "cloth_sim/node/sim_clock.h"
+#include "cloth_sim/node/render_pacer.h"
 #include "cloth_sim/node/step_monitor.h"
 
 namespace cloth_sim::node {
@@ -122,6 +124,7 @@ class ClothSimNode {
   MarkerStyle style_;
   ShownMarkers shown_;
   Vec3 cloth_center_;   ///< m, centre of the initial positions
+  SceneLimits limits_;  ///< what runtime inputs may ask (reach: ~sphere_cull_distance)
   double ground_size_;  ///< m
   std::uint64_t steps_since_reset_ = 0;
   StepReport last_report_;
@@ -148,6 +151,7 @@ class ClothSimNode {
   std::unique_ptr<PinHandles> pin_handles_;
   ros::SteadyTimer step_timer_, render_timer_, diagnostics_timer_, summary_timer_;
   std::uint64_t renders_ = 0;  ///< marker arrays sent; mesh obstacles go with one a second
+  RenderPacer pacer_{options_.marker_bandwidth, 1.0 / options_.render_rate};  ///< bytes/s cap
 };
 
 template <class Response>

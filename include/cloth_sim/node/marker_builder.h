@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <set>
+#include <string>
 #include <vector>
 
 #include <std_msgs/ColorRGBA.h>
@@ -40,8 +41,17 @@ struct MarkerScene {
   const std::vector<std::shared_ptr<const MeshObstacle>>* obstacles = nullptr;
 };
 
+/// What the cloth's colour shows (~color_mode, dynamic_reconfigure color_mode).
+enum class ColorMode {
+  kStrain,  ///< "strain": blue compressed, grey at rest, red stretched (strainColor)
+  kShaded,  ///< "shaded": one cloth colour, only the shading: the shape, not the strain
+};
+/// "strain" or "shaded" -> the mode; throws std::invalid_argument listing both.
+ColorMode colorModeFromName(const std::string& name);
+
 /// How things look.
 struct MarkerStyle {
+  ColorMode color_mode = ColorMode::kStrain;
   double strain_color_scale = 0.05;  ///< |strain| drawn at full colour (0.05 = 5 %)
   bool shading = true;               ///< darken cloth colours by a fixed light (see shadeFactor)
   double pin_diameter = 0.04;        ///< m

@@ -41,6 +41,9 @@ struct NodeOptions {
   double strain_color_scale = 0.05;
   /// ~shading: darken the cloth colours by a fixed light, so folds are visible in RViz.
   bool shading = true;
+  /// ~color_mode: "strain" (the cloth coloured by strain) or "shaded" (one colour, shading
+  /// only); also a dynamic_reconfigure parameter.
+  std::string color_mode = "strain";
   /// ~sphere_cull_distance, m, > 0: a sphere farther than this from the cloth's initial centre
   /// is removed (a thrown kinematic sphere flies on forever otherwise).
   double sphere_cull_distance = 20.0;
@@ -62,6 +65,10 @@ struct NodeOptions {
   double grasp_frame_timeout = 0.5;
   /// ~force_arrow_scale, m/N, >= 0 (settings::kForceArrowScale): length of a grasp's force arrow.
   double force_arrow_scale = 0.5;
+  /// ~marker_bandwidth, bytes/s, > 0: cloth/markers is sent at ~render_rate, or less often when
+  /// its arrays are large, so as not to exceed this (RenderPacer; 12 MB/s keeps 30 Hz up to a
+  /// 40 x 40 cloth, drape's).
+  double marker_bandwidth = 12e6;
 };
 
 /// Reads the options from @p private_params, the private namespace as one XmlRpc struct (what

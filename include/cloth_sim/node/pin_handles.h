@@ -21,6 +21,11 @@ std::string pinHandleName(int pin_id);
 /// The pin id in a handle name, or -1 if @p name is not one.
 int pinIdFromHandleName(const std::string& name);
 
+/// Handle size (m across) for a cloth of @p cloth_size m (the largest side of its bounding box):
+/// a tenth of it, within [0.02, 0.5] m, so that a handle neither buries a 1 m cloth (0.2 m
+/// handles did) nor vanishes on a large one.
+double handleSizeFor(double cloth_size);
+
 /// The handle of one pin, centred on its target (m, in @p frame_id), @p scale m across:
 /// a sphere dragged freely in the view plane (MOVE_3D), arrows along x, y and z (MOVE_AXIS)
 /// and a disc for the horizontal plane (MOVE_PLANE, normal z). Visuals are filled in
@@ -38,9 +43,10 @@ class PinHandles {
   using MoveCallback = std::function<void(int pin_id, const geometry_msgs::PointStamped& target)>;
 
   /// Serves handles on <topic_ns>/update etc. At most @p max_handles pins get handles: with
-  /// more pins than that, none has one (see NodeOptions::max_interactive_pins).
+  /// more pins than that, none has one (see NodeOptions::max_interactive_pins). Each handle is
+  /// @p handle_size m across (handleSizeFor: scaled to the cloth).
   PinHandles(const std::string& topic_ns, std::string frame_id, int max_handles,
-             MoveCallback on_move);
+             MoveCallback on_move, double handle_size = 0.2);
 
   /// Adds, removes and moves handles to match @p pins; publishes only when something changed.
   void sync(const std::vector<Pin>& pins);
@@ -50,6 +56,7 @@ class PinHandles {
 
   interactive_markers::InteractiveMarkerServer server_;
   std::string frame_id_;
+  double handle_size_;  ///< m across
   int max_handles_;
   MoveCallback on_move_;
   std::map<int, Vec3> shown_;  ///< pin id -> pose the server holds for its handle

@@ -1,8 +1,12 @@
 #include "cloth_sim/core/io/scene_builder.h"
 
+#include <algorithm>
 #include <set>
+#include <sstream>
 
+#include "cloth_sim/core/io/scene_limits.h"
 #include "cloth_sim/core/model/grid_builder.h"
+#include "cloth_sim/core/settings/range.h"
 
 namespace cloth_sim {
 namespace {
@@ -45,6 +49,65 @@ std::vector<int> regionVertices(const Eigen::AlignedBox3d& box, const Points& re
     if (box.contains(Vec3(rest.col(v)))) out.push_back(static_cast<int>(v));
   }
   return out;
+}
+
+/// A length this small relative to the coordinates around it keeps fewer than 6 significant
+/// digits in double precision (2.2e-16 / 1e-9): the springs' rest lengths, their strains and the
+/// contacts would be computed from rounding noise (e.g. a 1 m cloth placed at x = 1e300 has every
+/// rest length 0).
+constexpr double kLengthResolution = 1e-9;
+
+/// The cloth's shortest spring or edge must be resolvable where the cloth is: at least
+/// kLengthResolution times its farthest coordinate.
+void checkPrecision(const SceneConfig& scene, const BuiltObject& object) {
+  const auto& rest = object.model.springs.rest_length;
+  const Points& x = object.rest_positions;
+  double shortest = rest.empty() ? Range::kInfinity : *std::min_element(rest.begin(), rest.end());
+  const Eigen::Matrix3Xi& triangles = object.model.triangles;  // the edges a spring may skip
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const double edge = (x.col(triangles(k, t)) - x.col(triangles((k + 1) % 3, t))).norm();
+      shortest = std::min(shortest, edge);
+    }
+  }
+  const double farthest = object.rest_positions.cwiseAbs().maxCoeff();
+  if (shortest >= kLengthResolution * farthest) return;
+  const bool grid = scene.cloth_kind == SceneConfig::ClothKind::kGrid;
+  std::ostringstream s;
+  s << "the shortest spring or triangle edge, " << shortest << " m, is less than " << kLengthResolution
+    << " times the cloth's farthest coordinate, " << farthest
+    << " m: rest lengths would lose their precision (move the cloth nearer the origin or make "
+    << (grid ? "it larger or its grid coarser)" : "it larger)");
+  throw SceneError(scene.source, grid ? "cloth.grid.position" : "cloth.mesh.position", s.str());
+}
+
+/// What the scene puts around its cloth must be something the simulation can follow
+/// (scene_limits.h): pin targets and spheres within reach, spheres no larger than the cloth, no
+/// far heavier, no faster than their radius per implicit step; the ground below the cloth.
+void checkLimits(const SceneConfig& scene, const Simulation& sim) {
+  const SceneLimits limits = SceneLimits::of(sim);
+  for (const PinSelector& pin : scene.pins) {
+    if (!pin.target) continue;
+    try {
+      limits.checkPoint("value", *pin.target);
+    } catch (const std::invalid_argument& e) {
+      fail(scene, pin, ".target", e.what());
+    }
+  }
+  const double lowest = sim.initialPositions().row(2).minCoeff();
+  if (scene.ground.enabled && scene.ground.height > lowest) {
+    std::ostringstream s;
+    s << "value " << scene.ground.height << " m must be at most the cloth's lowest initial "
+      << "height, " << lowest << " m (a ground above the cloth would throw it up past its pins)";
+    throw SceneError(scene.source, "colliders.ground.height", s.str());
+  }
+  for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
+    try {
+      limits.checkSphere("", scene.spheres[k], sim.model().time_step);
+    } catch (const std::invalid_argument& e) {
+      throw SceneError(scene.source, "colliders.spheres[" + std::to_string(k) + "]", e.what());
+    }
+  }
 }
 
 }  // namespace
@@ -92,6 +155,7 @@ std::vector<PinSpec> resolvePins(const SceneConfig& scene, const Points& rest) {
 
 Simulation makeSimulation(const SceneConfig& scene) {
   BuiltObject object = buildCloth(scene);
+  checkPrecision(scene, object);
   PinSet pins;
   for (const PinSpec& p : resolvePins(scene, object.rest_positions)) {
     pins.add(p.vertex, p.target.value_or(Vec3(object.rest_positions.col(p.vertex))), p.stiffness,
@@ -101,8 +165,10 @@ Simulation makeSimulation(const SceneConfig& scene) {
   for (const SphereCollider& s : scene.spheres) colliders.addSphere(s);
   for (const MeshColliderSpec& m : scene.meshes) colliders.addMesh(m.obstacle);
   colliders.setGround(scene.ground);
-  return Simulation(std::move(object.model), object.rest_positions, std::move(pins),
-                    std::move(colliders), scene.options);
+  Simulation sim(std::move(object.model), object.rest_positions, std::move(pins),
+                 std::move(colliders), scene.options);
+  checkLimits(scene, sim);
+  return sim;
 }
 
 }  // namespace cloth_sim

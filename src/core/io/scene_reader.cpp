@@ -34,10 +34,18 @@ class Reader {
     throw SceneError(source_, path, problem);
   }
 
+  /// @p node as flow YAML, cut to kShown characters: a 100 kB value is not echoed back whole.
   static std::string show(const YAML::Node& node) {
     YAML::Emitter out;
     out << YAML::Flow << node;
-    return out.c_str();
+    return clip(out.c_str());
+  }
+
+  static constexpr std::size_t kShown = 64;
+  /// @p text, or its first kShown characters and how long it was.
+  static std::string clip(const std::string& text) {
+    if (text.size() <= kShown) return text;
+    return text.substr(0, kShown) + "... (" + std::to_string(text.size()) + " characters)";
   }
 
   /// Checks that @p node is a map whose keys are all in @p known.
@@ -53,13 +61,13 @@ class Reader {
       }
       const std::string key = kv.first.Scalar();
       if (const auto [first, fresh] = lines.emplace(key, line); !fresh) {
-        fail(join(path, key), "given twice (lines " + std::to_string(first->second) + " and " +
+        fail(join(path, clip(key)), "given twice (lines " + std::to_string(first->second) + " and " +
                                   std::to_string(line) + "); a field may appear once");
       }
       if (known.count(key) == 0) {
         std::string list;
         for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-        fail(join(path, key), "unknown field (known here: " + list + ")");
+        fail(join(path, clip(key)), "unknown field (known here: " + list + ")");
       }
     }
   }
@@ -85,9 +93,9 @@ class Reader {
         value = node.as<double>();
       }
     } catch (const std::exception&) {
-      fail(path, "value '" + text + "' must be a number");
+      fail(path, "value '" + clip(text) + "' must be a number");
     }
-    if (!std::isfinite(value)) fail(path, "value '" + text + "' must be finite");
+    if (!std::isfinite(value)) fail(path, "value '" + clip(text) + "' must be finite");
     return value;
   }
 
@@ -120,18 +128,36 @@ class Reader {
     }
   }
 
-  Vec3 vec3(const YAML::Node& node, const std::string& path) const {
+  /// [x, y, z], each component finite and, when @p setting is given, allowed by it.
+  Vec3 vec3(const YAML::Node& node, const std::string& path,
+            const Setting* setting = nullptr) const {
     if (!node.IsSequence() || node.size() != 3) {
       fail(path, "value " + show(node) + " must be a list of 3 numbers [x, y, z]");
     }
     Vec3 v;
-    for (int k = 0; k < 3; ++k) v[k] = number(node[k], path + "[" + std::to_string(k) + "]");
+    for (int k = 0; k < 3; ++k) {
+      const std::string component = path + "[" + std::to_string(k) + "]";
+      v[k] = setting ? number(node[k], component, *setting) : number(node[k], component);
+    }
     return v;
+  }
+
+  /// A point of the scene: every coordinate within settings::kCoordinate.
+  Vec3 point(const YAML::Node& node, const std::string& path) const {
+    return vec3(node, path, &settings::kCoordinate);
   }
 
   std::string text(const YAML::Node& node, const std::string& path) const {
     if (!node.IsScalar()) fail(path, "value " + show(node) + " must be a string");
     return node.Scalar();
+  }
+
+  /// A name from a fixed list (solver, integrator, pattern, edge): short, so that the message
+  /// listing the names can quote it.
+  std::string word(const YAML::Node& node, const std::string& path) const {
+    const std::string name = text(node, path);
+    if (name.size() > kShown) fail(path, "value '" + clip(name) + "' is too long for a name");
+    return name;
   }
 
   const std::string& source() const { return source_; }
@@ -152,7 +178,7 @@ void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& opti
   r.map(node, path, {"name", "iterations", "substeps", "tolerance", "integrator", "chebyshev",
                      "anderson", "lbfgs"});
   if (node["name"]) {
-    options.solver = r.text(node["name"], path + ".name");
+    options.solver = r.word(node["name"], path + ".name");
     try {
       makeSolver(options.solver);  // throws the message listing the names
     } catch (const std::invalid_argument& e) {
@@ -161,7 +187,7 @@ void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& opti
   }
   SolverSettings& s = options.settings;
   if (node["integrator"]) {
-    const std::string name = r.text(node["integrator"], settings::kIntegrator.name);
+    const std::string name = r.word(node["integrator"], settings::kIntegrator.name);
     try {  // the message lists the names
       s.integrator = integratorFromName(name);
     } catch (const std::invalid_argument& e) {
@@ -206,7 +232,7 @@ void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& opti
 /// about Z, REP-103), both optional.
 Eigen::Isometry3d readPose(const Reader& r, const YAML::Node& node, const std::string& path) {
   Vec3 position = Vec3::Zero(), rpy = Vec3::Zero();
-  if (node["position"]) position = r.vec3(node["position"], path + ".position");
+  if (node["position"]) position = r.point(node["position"], path + ".position");
   if (node["orientation_rpy"]) rpy = r.vec3(node["orientation_rpy"], path + ".orientation_rpy");
   return Eigen::Translation3d(position) * Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) *
          Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) * Eigen::AngleAxisd(rpy.x(), Vec3::UnitX());
@@ -220,11 +246,22 @@ TriangleMesh readPlacedMesh(const Reader& r, const YAML::Node& node, const std::
   resolved = r.resolve(r.text(node["file"], path + ".file"));
   double scale = 1.0;
   if (node["scale"]) scale = r.number(node["scale"], path + ".scale", settings::kMeshScale);
+  TriangleMesh mesh;
   try {
-    return loadObj(resolved).transformed(readPose(r, node, path), scale);
+    mesh = loadObj(resolved).transformed(readPose(r, node, path), scale);
   } catch (const std::invalid_argument& e) {
     r.fail(path + ".file", e.what());
   }
+  // Placed, every vertex must still be a point of the scene (settings::kCoordinate).
+  const double farthest = mesh.vertices.size() > 0 ? mesh.vertices.cwiseAbs().maxCoeff() : 0.0;
+  if (!settings::kCoordinate.range.contains(farthest)) {
+    std::ostringstream s;
+    s << "value " << scale << " (with the position) puts a vertex of " << resolved << " at "
+      << farthest << " m from the origin on an axis; every coordinate must be "
+      << settings::kCoordinate.requirement();
+    r.fail(path + ".scale", s.str());
+  }
+  return mesh;
 }
 
 void readClothMesh(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
@@ -286,7 +323,7 @@ void readMaterial(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
     r.fail(sp, "must declare at least one family (structural, shear, bending)");
   }
   if (node["shear_pattern"]) {
-    const std::string p = r.text(node["shear_pattern"], path + ".shear_pattern");
+    const std::string p = r.word(node["shear_pattern"], path + ".shear_pattern");
     if (p == "both") scene.grid.shear_pattern = ShearPattern::kBoth;
     else if (p == "triangle") scene.grid.shear_pattern = ShearPattern::kTriangle;
     else r.fail(path + ".shear_pattern", "value '" + p + "' must be 'both' or 'triangle'");
@@ -303,7 +340,7 @@ void readMaterial(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
 Eigen::AlignedBox3d readRegion(const Reader& r, const YAML::Node& node, const std::string& path) {
   r.map(node, path, {"min", "max"});
   if (!node["min"] || !node["max"]) r.fail(path, "needs 'min' and 'max' corners [x, y, z] in m");
-  const Eigen::AlignedBox3d box(r.vec3(node["min"], path + ".min"), r.vec3(node["max"], path + ".max"));
+  const Eigen::AlignedBox3d box(r.point(node["min"], path + ".min"), r.point(node["max"], path + ".max"));
   if (box.isEmpty()) r.fail(path, "'min' must not exceed 'max' on any axis");
   return box;
 }
@@ -337,7 +374,7 @@ void readPins(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
         pin.region = readRegion(r, p["region"], path + ".region");
       } else {
         pin.kind = PinSelector::Kind::kEdge;
-        pin.edge = r.text(p["edge"], path + ".edge");
+        pin.edge = r.word(p["edge"], path + ".edge");
         const std::string& e = pin.edge;
         if (e != "top" && e != "bottom" && e != "left" && e != "right" && e != "all") {
           r.fail(path + ".edge", "value '" + e + "' must be top, bottom, left, right or all");
@@ -352,7 +389,7 @@ void readPins(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
       pin.row = r.integer(p["row"], path + ".row");
       pin.col = r.integer(p["col"], path + ".col");
     }
-    if (p["target"]) pin.target = r.vec3(p["target"], path + ".target");
+    if (p["target"]) pin.target = r.point(p["target"], path + ".target");
     scene.pins.push_back(std::move(pin));
   }
 }
@@ -391,7 +428,7 @@ void readColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) 
       if (!s["center"]) r.fail(path + ".center", "is required");
       if (!s["radius"]) r.fail(path + ".radius", "is required");
       SphereCollider sphere;
-      sphere.center = r.vec3(s["center"], path + ".center");
+      sphere.center = r.point(s["center"], path + ".center");
       sphere.radius = r.number(s["radius"], path + ".radius", settings::kSphereRadius);
       if (s["velocity"]) sphere.velocity = r.vec3(s["velocity"], path + ".velocity");
       if (s["friction"]) {
@@ -408,7 +445,10 @@ void readColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) 
   if (const YAML::Node ground = node["ground"]) {
     r.map(ground, "colliders.ground", {"height", "friction"});
     scene.ground.enabled = true;
-    if (ground["height"]) scene.ground.height = r.number(ground["height"], "colliders.ground.height");
+    if (ground["height"]) {
+      scene.ground.height =
+          r.number(ground["height"], "colliders.ground.height", settings::kCoordinate);
+    }
     if (ground["friction"]) {
       scene.ground.friction =
           r.number(ground["friction"], "colliders.ground.friction", settings::kFriction);
@@ -457,7 +497,7 @@ SceneConfig parseScene(const std::string& yaml_text, const std::string& source) 
   if (root["time_step"]) {
     scene.time_step = r.number(root["time_step"], "time_step", settings::kTimeStep);
   }
-  if (root["gravity"]) scene.gravity = r.vec3(root["gravity"], "gravity");
+  if (root["gravity"]) scene.gravity = r.vec3(root["gravity"], "gravity", &settings::kGravity);
   if (root["solver"]) readSolver(r, root["solver"], scene.options);
   if (root["divergence_strain"]) {
     scene.options.divergence_strain =

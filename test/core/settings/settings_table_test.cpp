@@ -30,7 +30,7 @@ TEST(Range, RuleText) {
 
 TEST(SettingsTable, RequirementAndCoreMessage) {
   EXPECT_EQ(settings::kChebyshevRho.requirement(), "in [0, 1) (0 = the upper bound)");
-  EXPECT_EQ(settings::kSphereMass.requirement(), ">= 0 kg (0 = kinematic)");
+  EXPECT_EQ(settings::kSphereMass.requirement(), "in [0, 1e+09] kg (0 = kinematic)");
   try {
     settings::kIterations.require(0);
     FAIL();

@@ -4,5 +4,6 @@
 #pragma once
 
 #include "cloth_sim/core/io/scene_builder.h"
+#include "cloth_sim/core/io/scene_limits.h"
 #include "cloth_sim/core/io/scene_overrides.h"
 #include "cloth_sim/core/io/scene_reader.h"

@@ -23,7 +23,8 @@ struct Setting {
   const char* unit;   ///< SI unit, "" when dimensionless
   const char* note;   ///< what a special value means, e.g. "(0 = hard pin)", or ""
   const char* doc;    ///< one line for users (cfg, --help)
-  /// dynamic_reconfigure slider end for a range with no upper bound (0 when not on a slider).
+  /// dynamic_reconfigure slider end when the range's own end is too far for a slider (0: the
+  /// range's end, or not on a slider).
   double slider_max;
 
   /// The rule with its unit and note: "> 0 m", "in [0, 1) (0 = the upper bound)".
@@ -53,28 +54,32 @@ inline constexpr Setting kChebyshevGamma{"solver.chebyshev.gamma", "",          
 inline constexpr Setting kChebyshevDelay{"solver.chebyshev.delay", "",                  Range::closed(1, 1000),             true,  "",       "",                  "Plain iterations before the acceleration starts",    0};
 inline constexpr Setting kAndersonWindow{"solver.anderson.window", "",                  Range::closed(1, 50),               true,  "",       "",                  "Past iterates in Anderson's least-squares model",    0};
 inline constexpr Setting kLbfgsWindow{"solver.lbfgs.window",    "",                     Range::closed(1, 50),               true,  "",       "",                  "(s, t) pairs kept by L-BFGS",                        0};
-inline constexpr Setting kTimeStep{"time_step",                 "",                     Range{0, 1, true, false},           false, "s",      "",                  "Time step h",                                        0};
-inline constexpr Setting kDivergenceStrain{"divergence_strain", "",                     Range::above(0),                    false, "",       "",                  "Strain beyond which a step counts as diverged",      0};
-inline constexpr Setting kArealDensity{"material.areal_density", "",                    Range::above(0),                    false, "kg/m^2", "",                  "Mass per area of the cloth",                         0};
-inline constexpr Setting kDamping{"material.damping",           "damping",              Range::atLeast(0),                  false, "1/s",    "",                  "Linear drag rate gamma (1/s): velocity decays as exp(-gamma t)", 100};
-inline constexpr Setting kStructuralStiffness{"material.springs.structural", "structural_stiffness", Range::atLeast(0), false, "N/m",    "",                  "Stiffness of every structural spring (N/m)",         100000};
-inline constexpr Setting kShearStiffness{"material.springs.shear", "shear_stiffness",   Range::atLeast(0),                  false, "N/m",    "",                  "Stiffness of every shear spring (N/m)",              100000};
-inline constexpr Setting kBendingStiffness{"material.springs.bending", "bending_stiffness", Range::atLeast(0),               false, "N/m",    "",                  "Stiffness of every bending spring (N/m)",            100000};
+inline constexpr Setting kTimeStep{"time_step",                 "",                     Range::closed(1e-6, 1),             false, "s",      "",                  "Time step h",                                        0};
+inline constexpr Setting kDivergenceStrain{"divergence_strain", "",                     Range::atLeast(1),                  false, "",       "(1 = 100 %)",       "Strain beyond which a step counts as diverged",      0};
+inline constexpr Setting kArealDensity{"material.areal_density", "",                    Range::closed(1e-6, 1e6),           false, "kg/m^2", "",                  "Mass per area of the cloth",                         0};
+inline constexpr Setting kDamping{"material.damping",           "damping",              Range::closed(0, 1e6),              false, "1/s",    "",                  "Linear drag rate gamma (1/s): velocity decays as exp(-gamma t)", 100};
+inline constexpr Setting kStructuralStiffness{"material.springs.structural", "structural_stiffness", Range::closed(0, 1e9), false, "N/m",    "",                  "Stiffness of every structural spring (N/m)",         100000};
+inline constexpr Setting kShearStiffness{"material.springs.shear", "shear_stiffness",   Range::closed(0, 1e9),              false, "N/m",    "",                  "Stiffness of every shear spring (N/m)",              100000};
+inline constexpr Setting kBendingStiffness{"material.springs.bending", "bending_stiffness", Range::closed(0, 1e9),           false, "N/m",    "",                  "Stiffness of every bending spring (N/m)",            100000};
 inline constexpr Setting kGridResolution{"cloth.grid.rows",     "",                     Range::closed(2, 2000),             true,  "",       "",                  "Particles along each side of a grid cloth",          0};
-inline constexpr Setting kGridSize{"cloth.grid.size",           "",                     Range::above(0),                    false, "m",      "",                  "Width and height of a grid cloth",                   0};
-inline constexpr Setting kMeshScale{"scale",                    "",                     Range::above(0),                    false, "",       "",                  "Uniform scale of an OBJ file",                       0};
-inline constexpr Setting kMeshThickness{"thickness",            "",                     Range::above(0),                    false, "m",      "",                  "Contact distance of a mesh obstacle",                0};
-inline constexpr Setting kPinStiffness{"pin.stiffness",         "stiffness",            Range::atLeast(0),                  false, "N/m",    "(0 = hard pin)",    "Stiffness of a soft pin",                            0};
-inline constexpr Setting kSphereRadius{"sphere.radius",         "radius",               Range::above(0),                    false, "m",      "",                  "Radius of a sphere collider",                        0};
-inline constexpr Setting kSphereMass{"sphere.mass",             "mass",                 Range::atLeast(0),                  false, "kg",     "(0 = kinematic)",   "Mass of a sphere (0: moves at its velocity)",       0};
+inline constexpr Setting kGridSize{"cloth.grid.size",           "",                     Range::closed(1e-3, 1e4),           false, "m",      "",                  "Width and height of a grid cloth",                   0};
+inline constexpr Setting kMeshScale{"scale",                    "",                     Range::closed(1e-6, 1e6),           false, "",       "",                  "Uniform scale of an OBJ file",                       0};
+inline constexpr Setting kMeshThickness{"thickness",            "",                     Range{0, 1, true, false},           false, "m",      "",                  "Contact distance of a mesh obstacle",                0};
+inline constexpr Setting kPinStiffness{"pin.stiffness",         "stiffness",            Range::closed(0, 1e9),              false, "N/m",    "(0 = hard pin)",    "Stiffness of a soft pin",                            0};
+inline constexpr Setting kSphereRadius{"sphere.radius",         "radius",               Range{0, 1e6, true, false},         false, "m",      "",                  "Radius of a sphere collider",                        0};
+inline constexpr Setting kSphereMass{"sphere.mass",             "mass",                 Range::closed(0, 1e9),              false, "kg",     "(0 = kinematic)",   "Mass of a sphere (0: moves at its velocity)",       0};
 inline constexpr Setting kRestitution{"sphere.restitution",     "restitution",          Range::closed(0, 1),                false, "",       "",                  "Share of the normal speed a sphere keeps on impact", 0};
-inline constexpr Setting kFriction{"friction",                  "friction",             Range::atLeast(0),                  false, "",       "",                  "Coulomb friction coefficient mu",                    0};
+inline constexpr Setting kFriction{"friction",                  "friction",             Range::closed(0, 100),              false, "",       "",                  "Coulomb friction coefficient mu",                    0};
 inline constexpr Setting kSelfThickness{"self_collision.thickness", "",                Range::atLeast(0),                  false, "m",      "(0 = the mean rest edge length)", "Distance the cloth keeps from itself",   0};
 inline constexpr Setting kSelfFriction{"self_collision.friction", "",                  Range::atLeast(0),                  false, "",       "",                  "Coulomb friction of the cloth on itself",            0};
 inline constexpr Setting kGraspRadius{"grasp.radius",          "",                     Range::atLeast(0),                  false, "m",      "(0 = the nearest free particle)", "Particles within this of a grasp point are held", 0};
 inline constexpr Setting kRealTimeFactor{"real_time_factor",    "real_time_factor",     Range::closed(0, 1000),             false, "",       "(0 = as fast as possible)", "Simulated seconds per wall-clock second",     0};
 inline constexpr Setting kGraspFrameTimeout{"grasp_frame_timeout", "grasp_frame_timeout", Range::above(0),                  false, "s",      "",                  "A grasp frame whose latest transform is older is stale", 0};
 inline constexpr Setting kForceArrowScale{"force_arrow_scale",  "force_arrow_scale",    Range::atLeast(0),                  false, "m/N",    "",                  "Length of a grasp's force arrow per newton",        0};
+// Where things may be, and how hard gravity may pull: a coordinate within 1000 km of the origin
+// keeps a double's resolution under 1e-9 m there, so rest lengths and contacts stay exact.
+inline constexpr Setting kCoordinate{"position",                "",                     Range::closed(-1e6, 1e6),           false, "m",      "",                  "Any coordinate of a scene (positions, centres, targets, corners, ground height)", 0};
+inline constexpr Setting kGravity{"gravity",                    "",                     Range::closed(-1e3, 1e3),           false, "m/s^2",  "(per axis)",        "Gravity, each component",                            0};
 // clang-format on
 
 /// Every setting above, in that order.
@@ -83,8 +88,9 @@ inline constexpr const Setting* kAllSettings[] = {
     &kAndersonWindow, &kLbfgsWindow,      &kTimeStep,        &kDivergenceStrain, &kArealDensity,
     &kDamping,     &kStructuralStiffness, &kShearStiffness,  &kBendingStiffness, &kGridResolution,
     &kGridSize,    &kMeshScale,           &kMeshThickness,   &kPinStiffness,     &kSphereRadius,
-    &kSphereMass,  &kRestitution,         &kFriction,        &kSelfThickness,    &kSelfFriction,
-    &kGraspRadius, &kRealTimeFactor,      &kGraspFrameTimeout, &kForceArrowScale};
+    &kSphereMass,  &kRestitution,         &kFriction,        &kCoordinate,       &kGravity,
+    &kSelfThickness, &kSelfFriction,      &kGraspRadius,     &kRealTimeFactor,   &kGraspFrameTimeout,
+    &kForceArrowScale};
 }  // namespace settings
 
 }  // namespace cloth_sim
