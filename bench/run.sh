@@ -18,7 +18,7 @@ echo "[bench] $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; load: $(c
 # use both cores inside Newton's factorizations).
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 case "$what" in
-  accuracy|floor|speed|stability|scaling) "$BENCH" "$what" "$@" ;;
+  accuracy|drift|floor|speed|stability|scaling) "$BENCH" "$what" "$@" ;;
   report) ;;
   all)
     "$BENCH" accuracy
