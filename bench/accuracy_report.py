@@ -7,7 +7,12 @@ best configuration within half a frame (8.3 ms) and within a frame (16.7 ms). Ev
 "floor" row: the spread between the two references (h and h / 2) at each time, below which no
 error can be told apart. A BDF2 run's solver is "<solver>/bdf2", drawn in its solver's colour
 with a hollow marker and a dashed front.
+
+report_peer: the peers' scene (peer_cloth, 1 m) against XPBD, in mm: peer.md (the Pareto front
+of each solver at 0.5 s, the best error of each within 1, 4, 16 and 64 ms per frame, the floor,
+the energy drift of drift.csv) and accuracy.png at 0.5 s.
 """
+import csv
 import math
 import os
 from collections import defaultdict
@@ -70,7 +75,9 @@ def pareto(points):
     return front
 
 
-def plot(rows, path, style):
+def plot(rows, path, style, at=None, scale=None, unit="RMS error / diagonal", cpu=False):
+    """at: the time drawn (default primary_time); scale: case -> factor applied to the errors;
+    cpu: CPU ms per frame on x (when measured) instead of wall ms."""
     configs = _configs(rows)
     cases = list(configs)
     if not cases:
@@ -79,12 +86,14 @@ def plot(rows, path, style):
     nrows = (len(cases) + cols - 1) // cols
     fig, axes = plt.subplots(nrows, cols, figsize=(5 * cols, 4 * nrows), squeeze=False)
     for ax, case in zip(axes.flat, cases):
-        t0 = primary_time(configs[case])
+        t0 = at if at is not None else primary_time(configs[case])
+        f = scale.get(case, 1.0) if scale else 1.0
         by_solver = defaultdict(list)
         for by_t in configs[case].values():
             r = by_t.get(t0)
             if r:
-                by_solver[r["solver"]].append((_num(r["frame_ms_median"]), _num(r["rms_error"])))
+                ms = _ms(r) if cpu else _num(r["frame_ms_median"])
+                by_solver[r["solver"]].append((ms, f * _num(r["rms_error"])))
         for solver, pts in sorted(by_solver.items()):
             colour, marker, line = style_of(style, solver)
             ax.scatter(*zip(*pts), marker=marker, s=14, alpha=0.5,
@@ -93,12 +102,13 @@ def plot(rows, path, style):
             ax.plot(*zip(*front), color=colour, ls=line, label=solver)
         ax.axvline(FRAME_MS, color="gray", ls="--", lw=0.8)
         ax.axvline(FRAME_MS / 2, color="gray", ls=":", lw=0.8)
-        ax.axhline(0.02, color="red", ls=":", lw=0.8)
+        if not scale:
+            ax.axhline(0.02, color="red", ls=":", lw=0.8)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_title(f"{case}, t = {t0:g} s")
-        ax.set_xlabel("ms per 1/60 s frame")
-        ax.set_ylabel("RMS error / diagonal")
+        ax.set_xlabel("CPU ms per 1/60 s frame" if cpu else "ms per 1/60 s frame")
+        ax.set_ylabel(unit)
         ax.legend(fontsize=7)
     for ax in list(axes.flat)[len(cases):]:
         ax.axis("off")
@@ -170,3 +180,123 @@ def report(results, rows, refs, style):
     with open(os.path.join(results, "accuracy.md"), "w") as f:
         f.write("# Accuracy against the true motion\n\nBest RMS error at 1 s "
                 "within a budget of ms per 1/60 s frame:\n\n" + tables(rows, refs) + "\n")
+
+
+# --- the peers' scene against XPBD, in mm ---------------------------------------------------
+PEER_BUDGETS_MS = (1.0, 4.0, 16.0, 64.0)
+
+
+def _read(path):
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def _mm(v):
+    return "-" if math.isnan(v) else (f"{v:.3g}" if v < 100 else f"{v:.0f}")
+
+
+def _ms(r, which="median"):
+    """CPU ms per frame of this thread when measured (the machine's other jobs do not count),
+    else wall ms."""
+    v = _num(r.get(f"cpu_ms_{which}"))
+    return v if not math.isnan(v) else _num(r[f"frame_ms_{which}"])
+
+
+def peer_tables(rows, refs, drift):
+    """Markdown: per case, the floor, the best of each solver within each budget (RMS at 0.25 and
+    0.5 s, CoM at 1 s, in mm), and each solver's Pareto front at 0.5 s."""
+    configs = _configs(rows)
+    diag = {r["case"]: _num(r["diagonal"]) for r in refs}
+    ref_by_case = defaultdict(dict)
+    for r in refs:
+        ref_by_case[r["case"]][_num(r["time"])] = r
+    out = ["# Against XPBD on the peers' scene\n",
+           "Errors in mm against the Verlet reference (the cloth is 1 m; 1 % of its diagonal is "
+           "14.1 mm); ms per 1/60 s frame: this thread's CPU time, median (p10-p90), one thread "
+           "(the wall time, inflated by the machine's other jobs, is in accuracy.csv). "
+           "\"floor\": the distance between the two references (h and h / 2), below which no "
+           "error can be told apart.\n"]
+    for case, by_label in configs.items():
+        mm = 1000.0 * diag.get(case, float("nan"))
+        refs_t = ref_by_case.get(case, {})
+
+        def cell(by_t, t, key):
+            r = by_t.get(t)
+            return mm * _num(r[key]) if r else float("nan")
+
+        floor = [mm * _num(refs_t[t]["floor_rms"]) if t in refs_t else float("nan") for t in (0.25, 0.5)]
+        floor_com = mm * _num(refs_t[1.0]["floor_com"]) if 1.0 in refs_t else float("nan")
+        ref0 = next(iter(refs_t.values()), None)
+        out.append(f"## {case}\n")
+        if ref0:
+            out.append(f"Reference: {ref0['reference']} at h = {_num(ref0['h_ref']):.3g} s, "
+                       f"{ref0['particles']} particles. Floor: {_mm(floor[0])} mm RMS at 0.25 s, "
+                       f"{_mm(floor[1])} mm at 0.5 s, {_mm(floor_com)} mm centre of mass at 1 s.\n")
+        solvers = sorted({by_t[min(by_t)]["solver"] for by_t in by_label.values()})
+        out.append("Best within a budget: the RMS columns are those of the configuration with the "
+                   "lowest RMS at 0.5 s, the CoM column that of the lowest CoM error at 1 s:\n")
+        out.append("| solver | within CPU ms per frame | RMS at 0.25 s (mm) | RMS at 0.5 s (mm) | configuration "
+                   "| CoM at 1 s (mm) | configuration |")
+        out.append("|---|---|---|---|---|---|---|")
+        for budget in PEER_BUDGETS_MS:
+            for solver in solvers:
+                fits = [(name, by_t) for name, by_t in by_label.items()
+                        if by_t[min(by_t)]["solver"] == solver
+                        and _ms(by_t[min(by_t)]) <= budget]
+                rms = [(cell(b, 0.5, "rms_error"), n, b) for n, b in fits if 0.5 in b]
+                com = [(cell(b, 1.0, "com_error"), n) for n, b in fits if 1.0 in b]
+                br = min(rms, key=lambda x: x[0]) if rms else None
+                bc = min(com, key=lambda x: x[0]) if com else None
+                out.append(f"| {solver} | {budget:g} | "
+                           f"{_mm(cell(br[2], 0.25, 'rms_error')) if br else '-'} | "
+                           f"{_mm(br[0]) if br else '-'} | {br[1] if br else '-'} | "
+                           f"{_mm(bc[0]) if bc else '-'} | {bc[1] if bc else '-'} |")
+        out.append(f"| floor | - | {_mm(floor[0])} | {_mm(floor[1])} | - | {_mm(floor_com)} | - |")
+        out.append("")
+        out.append("Pareto front of each solver (RMS at 0.5 s against ms per frame):\n")
+        out.append("| configuration | CPU ms per frame (p10-p90) | RMS at 0.25 s (mm) | RMS at 0.5 s (mm) "
+                   "| CoM at 1 s (mm) | energy / ref at 1 s | max strain / ref at 1 s |")
+        out.append("|---|---|---|---|---|---|---|")
+        out.append(f"| floor (reference h vs h/2) | - | {_mm(floor[0])} | {_mm(floor[1])} | "
+                   f"{_mm(floor_com)} | - | - |")
+        for solver in solvers:
+            pts = [(_ms(b[0.5]), _num(b[0.5]["rms_error"]), n)
+                   for n, b in by_label.items() if 0.5 in b and b[0.5]["solver"] == solver]
+            for _, _, name in pareto(pts):
+                b = by_label[name]
+                first = b[min(b)]
+                last = b.get(1.0, b[max(b)])
+                out.append(f"| {name} | {_ms(first):.2f} "
+                           f"({_ms(first, 'p10'):.2f}-{_ms(first, 'p90'):.2f}) | "
+                           f"{_mm(cell(b, 0.25, 'rms_error'))} | {_mm(cell(b, 0.5, 'rms_error'))} | "
+                           f"{_mm(cell(b, 1.0, 'com_error'))} | {_num(last['energy_ratio']):.3f} | "
+                           f"{_num(last['max_strain']) / _num(last['ref_max_strain']):.2f} |")
+        out.append("")
+    if drift:
+        out.append("## Energy drift of the undamped cloth\n")
+        out.append("| case | configuration | energy at 0 (J) | at 1 s | at the end | drift (J) | "
+                   "min, max over the run (J) | kinetic max (J) | ms per frame |")
+        out.append("|---|---|---|---|---|---|---|---|---|")
+        for r in drift:
+            out.append(f"| {r['case']} | {r['solver']} s{r['substeps']} i{r['iterations']}, "
+                       f"{_num(r['duration']):g} s | {_num(r['energy_start']):.3f} | "
+                       f"{_num(r['energy_1s']):.3f} | {_num(r['energy_end']):.3f} | "
+                       f"{_num(r['drift']):+.3f} | {_num(r['energy_min']):.3f}, "
+                       f"{_num(r['energy_max']):.3f} | {_num(r['kinetic_max']):.3f} | "
+                       f"{_num(r['frame_ms_median']):.2f} |")
+        out.append("")
+    return "\n".join(out)
+
+
+def report_peer(results, style):
+    """peer.md and accuracy.png (RMS at 0.5 s in mm) of the peer sweep in @p results."""
+    rows = _read(os.path.join(results, "accuracy.csv"))
+    refs = _read(os.path.join(results, "accuracy_reference.csv"))
+    drift = _read(os.path.join(results, "drift.csv"))
+    scale = {r["case"]: 1000.0 * _num(r["diagonal"]) for r in refs}
+    plot(rows, os.path.join(results, "accuracy.png"), style, at=0.5, scale=scale,
+         unit="RMS error at 0.5 s (mm)", cpu=True)
+    with open(os.path.join(results, "peer.md"), "w") as f:
+        f.write(peer_tables(rows, refs, drift))

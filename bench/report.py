@@ -40,6 +40,7 @@ STYLE = {
     "newton": ("tab:red", "*"),
     "explicit_euler": ("tab:purple", "x"),
     "verlet": ("tab:pink", "+"),
+    "xpbd": ("black", "s"),
 }
 
 
@@ -301,6 +302,10 @@ def main():
     accuracy = read("accuracy.csv")
     if accuracy:
         accuracy_report.report(RESULTS, accuracy, read("accuracy_reference.csv"), STYLE)
+    # The peers' scene against XPBD (bench/run.sh accuracy --scenes peer_cloth --out .../peer).
+    peer = os.path.join(RESULTS, "peer")
+    if os.path.exists(os.path.join(peer, "accuracy.csv")):
+        accuracy_report.report_peer(peer, STYLE)
     speed, traces = read("speed.csv"), read("traces.csv")
     summary = []
     if speed:

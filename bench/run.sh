@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # The benchmark of docs/benchmark.md in one command (make bench): builds (Release), then
 #   accuracy   every solver x substeps x iterations x scene x grid, error against the true motion
+#   drift      (only when asked) energy of an undamped scene over 10 s per configuration
 #   floor      bandwidth floor and per-iteration cost on the paper's 81 x 81 cloth
 #   speed      every solver x iteration count x scene x grid, error against converged Newton
 #   stability  every solver over stiffness x time step x hard cases
 #   scaling    cost against sphere count, and cloth size over mesh obstacles
 #   self_collision  cost of self-collision against the particle count (bench/self_collision.sh)
 # and turns the CSV files into plots and tables (bench/report.py). Results: bench/results/.
-# Usage: bench/run.sh [accuracy|floor|speed|stability|scaling|self_collision|report|all] [extra cloth_sim_bench options]
+# Usage: bench/run.sh [accuracy|drift|floor|speed|stability|scaling|self_collision|report|all] [extra cloth_sim_bench options]
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../scripts/env.sh"
 what="${1:-all}"
@@ -19,7 +20,7 @@ echo "[bench] $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; load: $(c
 # use both cores inside Newton's factorizations).
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 case "$what" in
-  accuracy|floor|speed|stability|scaling) "$BENCH" "$what" "$@" ;;
+  accuracy|drift|floor|speed|stability|scaling) "$BENCH" "$what" "$@" ;;
   self_collision) bash "$REPO_ROOT/bench/self_collision.sh" "$@" ;;
   report) ;;
   all)
@@ -30,7 +31,7 @@ case "$what" in
     "$BENCH" scaling
     bash "$REPO_ROOT/bench/self_collision.sh"
     ;;
-  *) echo "usage: $0 [accuracy|floor|speed|stability|scaling|self_collision|report|all] [options]" >&2; exit 1 ;;
+  *) echo "usage: $0 [accuracy|drift|floor|speed|stability|scaling|self_collision|report|all] [options]" >&2; exit 1 ;;
 esac
 echo "[bench] load after: $(cut -d' ' -f1-3 /proc/loadavg)"
 /usr/bin/python3 "$REPO_ROOT/bench/report.py" "$REPO_ROOT/bench/results"

@@ -27,7 +27,7 @@ const char* stepStatusName(StepStatus status) {
 void SimulationOptions::validate() const {
   settings.validate();
   self_contact.validate();
-  requireIntegrator(*makeSolver(solver), settings.integrator);  // makeSolver lists the names
+  makeSolver(solver)->requireSettings(settings);  // makeSolver lists the names
   if (!settings::kDivergenceStrain.range.contains(divergence_strain)) {
     throw std::invalid_argument("divergence_strain must be finite and " +
                                 settings::kDivergenceStrain.requirement());
@@ -383,7 +383,7 @@ void Simulation::setTimeStep(double h) {
 
 void Simulation::setSolver(const std::string& name) {
   std::unique_ptr<Solver> next = makeSolver(name);
-  requireIntegrator(*next, options_.settings.integrator);
+  next->requireSettings(options_.settings);
   retired_factorizations_ += solver_->factorizationCount();
   solver_ = std::move(next);
   options_.solver = name;
@@ -391,7 +391,7 @@ void Simulation::setSolver(const std::string& name) {
 
 void Simulation::setSolverSettings(const SolverSettings& settings) {
   settings.validate();
-  requireIntegrator(*solver_, settings.integrator);
+  solver_->requireSettings(settings);
   if (settings.substeps != options_.settings.substeps) {
     model_.time_step = frame_time_ / settings.substeps;
     ++revision_;

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "cloth_sim/core/io/scene.h"
+
 namespace cloth_sim::bench {
 
 struct AccuracyOptions {
@@ -21,6 +23,10 @@ struct AccuracyOptions {
   /// a bdf2 run is labelled "<solver>/bdf2", an implicit Euler one by the solver's name.
   std::vector<std::string> integrators = {"implicit_euler", "bdf2"};
   std::vector<int> substeps = {1, 2, 4, 8, 16};
+  /// Substeps per frame of the solvers that take one sweep per step, the small-steps way
+  /// (Macklin et al. 2019): xpbd runs these with 1 iteration each, and only with its own
+  /// scheme (a solver is run only with the integrators it supports).
+  std::vector<int> xpbd_substeps = {4, 8, 16, 32, 64, 128, 256, 512};
   std::vector<int> iterations = {1, 2, 3, 5, 10, 20};
   /// Newton at full convergence (the best a step of that size can do), only up to this grid.
   int newton_max_grid = 32;
@@ -43,6 +49,10 @@ struct AccuracyOptions {
   /// end: it is far off the real-time front and would only cost benchmark time.
   double max_frame_ms = 100.0;
 };
+
+/// Substeps per frame for velocity Verlet at half its stability limit h < 2 / w_max, rounded up
+/// to a power of two (w_max from Gershgorin on M^-1 K at rest): the "verlet" reference's step.
+int verletSubsteps(const SceneConfig& scene);
 
 /// Runs the sweep; writes accuracy.csv and accuracy_reference.csv into out_dir and prints a
 /// progress bar and one line per configuration.

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "accuracy.h"
+#include "drift.h"
 #include "floor.h"
 #include "scaling.h"
 #include "speed.h"
@@ -128,6 +129,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   accuracy_cmd->add_option("--substeps", accuracy.substeps, "substeps per frame")->delimiter(',')
       ->capture_default_str()->check(CLI::Range(1, 1000));
+  accuracy_cmd->add_option("--xpbd-substeps", accuracy.xpbd_substeps,
+                           "substeps per frame of xpbd (1 iteration each)")
+      ->delimiter(',')->capture_default_str()->check(CLI::Range(1, 100000));
   accuracy_cmd->add_option("--iterations", accuracy.iterations, "iterations per substep")
       ->delimiter(',')->capture_default_str()->check(CLI::Range(1, 100000));
   accuracy_cmd->add_option("--newton-max-grid", accuracy.newton_max_grid,
@@ -144,6 +148,20 @@ int main(int argc, char** argv) {
                            "stop a configuration slower than this per frame")
       ->capture_default_str()->check(CLI::PositiveNumber);
 
+  DriftOptions drift;
+  drift.out_dir = source_dir + "/bench/results";
+  CLI::App* drift_cmd = app.add_subcommand(
+      "drift", "energy of an undamped scene over a long run, per integrator");
+  drift_cmd->add_option("--out", drift.out_dir, "output directory")->capture_default_str();
+  drift_cmd->add_option("--scene", drift.scene, "scene")->capture_default_str();
+  drift_cmd->add_option("--grid", drift.grid, "particles per side (0 = the scene's)")
+      ->capture_default_str()->check(CLI::Range(0, 400));
+  drift_cmd->add_option("--duration", drift.duration, "simulated s")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  drift_cmd->add_option("--configs", drift.configs,
+                        "solver[/integrator]:substeps|scene|verlet:iterations|scene")
+      ->delimiter(',')->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -157,6 +175,8 @@ int main(int argc, char** argv) {
     accuracy.scenes_dir = speed.scenes_dir;
     if (*floor_cmd) runFloor(floor_options);
     if (*accuracy_cmd) runAccuracy(accuracy);
+    drift.scenes_dir = speed.scenes_dir;
+    if (*drift_cmd) runDrift(drift);
     if (*scaling_cmd) runScaling(scaling);
     if (*speed_cmd) {
       speed.paper = !no_paper;

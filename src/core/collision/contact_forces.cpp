@@ -154,8 +154,9 @@ void ContactForces::beginStep(const CollisionStep& step, const Colliders& collid
 }
 
 void ContactForces::begin(const Model& model, const Points& y, const Eigen::VectorXd& compliance,
-                          const std::vector<int>& particle_node) {
+                          const std::vector<int>& particle_node, double implicit_h) {
   const Points& start = start_;
+  implicit_h_ = implicit_h;
   contacts_.clear();
   for (std::size_t k = 0; k < bodies_.size(); ++k) {
     // Kinematic spheres keep the post-solve projection (in the solve a soft cloth sagged past
@@ -174,16 +175,20 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
   for (Contact& c : contacts_) {
     c.start = Vec3::Zero();
     for (int j = 0; j < 3; ++j) c.start += c.weight[j] * start.col(c.vertex[j]);
+    // The gap's response to a unit force: the cloth's part moves by h_i^2 (its right-hand side
+    // carries h_i^2 lambda), the sphere's by h^2 (it is integrated over h, placeBodies).
+    const double hi2 = implicit_h_ * implicit_h_, h2 = h_ * h_;
     if (c.body < 0) {
       // A still contact per particle: a sheet lying on a plane is pushed by all of them at
       // once, a mode the cloth's stiffness does not resist, so the point compliance (A^-1)_pp
       // would overshoot it many times over; 1/m_p bounds every mode (A >= M).
-      c.compliance = per_vertex[c.vertex[0]] / model.mass[c.vertex[0]];
+      c.response = hi2 * per_vertex[c.vertex[0]] / model.mass[c.vertex[0]];
     } else {
-      c.compliance = per_body[c.body] * bodies_[c.body].inv_mass;
+      c.response = h2 * per_body[c.body] * bodies_[c.body].inv_mass;
       for (int j = 0; j < 3; ++j) {
         if (c.weight[j] > 0.0) {
-          c.compliance += c.weight[j] * c.weight[j] * per_vertex[c.vertex[j]] * compliance[c.vertex[j]];
+          c.response +=
+              hi2 * c.weight[j] * c.weight[j] * per_vertex[c.vertex[j]] * compliance[c.vertex[j]];
         }
       }
     }
@@ -253,22 +258,22 @@ void ContactForces::update(const NodeBuffer& x) {
   const double h2 = h_ * h_;
   for (Contact& c : contacts_) relinearize(c, x);
   for (Contact& c : contacts_) {
-    c.lambda = std::max(0.0, c.lambda - kRelaxation * gap(c, x) / (h2 * c.compliance));
+    c.lambda = std::max(0.0, c.lambda - kRelaxation * gap(c, x) / c.response);
     const double mu = c.body < 0 ? c.mu : bodies_[c.body].friction;
     if (mu <= 0.0) continue;
     // Slip of the contact point over the step, relative to the collider's surface point.
     Vec3 point = Vec3::Zero();
     for (int j = 0; j < 3; ++j) point += c.weight[j] * nodeAt(x, c.offset[j]);
     Vec3 slip = point - c.start;
-    double compliance = c.compliance;
+    double response = c.response;
     if (c.body >= 0) {
       const Body& b = bodies_[c.body];
       slip -= (b.center - b.old) + h_ * b.spin.cross(b.radius * c.normal);
-      // The spin's response adds r^2 / I (r = radius) to the tangential compliance.
-      compliance += b.radius * b.radius * b.inv_inertia;
+      // The spin's response adds h^2 r^2 / I (r = radius) to the tangential response.
+      response += h2 * b.radius * b.radius * b.inv_inertia;
     }
     const Vec3 tangential = slip - slip.dot(c.normal) * c.normal;
-    c.friction -= kRelaxation * tangential / (h2 * compliance);
+    c.friction -= kRelaxation * tangential / response;
     c.friction -= c.friction.dot(c.normal) * c.normal;
     const double cap = mu * c.lambda, size = c.friction.norm();
     if (size > cap) c.friction *= cap / size;
@@ -277,7 +282,8 @@ void ContactForces::update(const NodeBuffer& x) {
 }
 
 void ContactForces::addForces(NodeBuffer& rhs) const {
-  const double h2 = h_ * h_;
+  // The cloth's step M (x - y) + h_i^2 grad E(x) = h_i^2 f: the forces enter with h_i^2.
+  const double h2 = implicit_h_ * implicit_h_;
   // Summed per vertex first, then added: the same sums (to the bit) as a separate force field.
   std::fill(touched_force_.begin(), touched_force_.end(), Vec3::Zero());
   for (const Contact& c : contacts_) {

@@ -4,6 +4,7 @@
 
 #include "cloth_sim/core/solvers/baselines/explicit_solvers.h"
 #include "cloth_sim/core/solvers/baselines/local_global_3n_solver.h"
+#include "cloth_sim/core/solvers/baselines/xpbd_solver.h"
 #include "cloth_sim/core/solvers/local_global/lbfgs_solver.h"
 #include "cloth_sim/core/solvers/local_global/local_global_solver.h"
 #include "cloth_sim/core/solvers/newton_solver.h"
@@ -28,6 +29,7 @@ const std::vector<SolverEntry>& solverRegistry() {
       {"anderson", "local/global with Anderson acceleration", make<AndersonSolver>},
       {"lbfgs", "L-BFGS with the local/global matrix (Liu et al. 2017)", make<LbfgsSolver>},
       {"local_global_3n", "local/global, 3N x 3N factor (baseline)", make<LocalGlobal3nSolver>},
+      {"xpbd", "XPBD distance constraints, small steps (baseline)", make<XpbdSolver>},
   };
   return registry;
 }

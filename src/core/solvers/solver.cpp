@@ -74,6 +74,10 @@ void requireIntegrator(const Solver& solver, Integrator integrator) {
                               implicit + ")");
 }
 
+void Solver::requireSettings(const SolverSettings& settings) const {
+  requireIntegrator(*this, settings.integrator);
+}
+
 void SolverSettings::validate() const {
   settings::kIterations.require(max_iterations);
   settings::kSubsteps.require(substeps);

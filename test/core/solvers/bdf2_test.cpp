@@ -139,6 +139,47 @@ TEST(Bdf2, UndampedClothKeepsMuchMoreEnergyThanImplicitEuler) {
   EXPECT_GT(bdf2, 5.0 * euler);
 }
 
+/// The peers' cloth at 8 x 8 (1 m, 1 kg, triangle edges at 1000 N/m, two top corners pinned,
+/// undamped) dropped flat, run @p seconds with local_global at the shipped peer_cloth
+/// configuration (16 substeps of 1 iteration per 1/60 s frame); returns its total energy (J).
+double energyAtScenesConfiguration(Integrator integrator, double seconds) {
+  GridSpec spec;
+  spec.rows = spec.cols = 8;
+  spec.material.areal_density = 1.0;
+  spec.shear_pattern = ShearPattern::kTriangle;
+  BuiltObject g = buildGrid(spec);
+  g.model.time_step = 1.0 / 60.0;
+  PinSet pins;
+  pins.add(0, g.rest_positions.col(0), 0.0, 64);
+  pins.add(7, g.rest_positions.col(7), 0.0, 64);
+  SimulationOptions options;
+  options.settings.integrator = integrator;
+  options.settings.substeps = 16;
+  options.settings.max_iterations = 1;
+  Simulation sim(g.model, g.rest_positions, pins, Colliders(), options);
+  const int frames = static_cast<int>(std::lround(seconds * 60.0));
+  for (int f = 0; f < frames; ++f) EXPECT_EQ(sim.step().status, StepStatus::kOk);
+  return sim.totalEnergy();
+}
+
+TEST(Bdf2, EnergyDriftOver10sAtTheScenesSubstepsIsBoundedAndBelowImplicitEulers) {
+  // 10 s of the undamped cloth at 16 substeps of one local/global iteration (measured: drift
+  // -3.349 J with bdf2, -4.112 J with implicit Euler, of the 4.96 J above the hanging rest
+  // state that the fall releases; docs/benchmark.md has the same at 32 x 32 and 64 x 64 with
+  // xpbd and velocity Verlet). Most of the loss is the springs' vibration, which the drop
+  // excites and both L-stable schemes remove (w h ~ 0.3 here, ~ 2 at 64 x 64); BDF2 keeps the
+  // resolved swing. Bounds: no energy gained, BDF2's drift within 0.1 J of the measured one,
+  // and at least 0.5 J less than implicit Euler's.
+  const double start = energyAtScenesConfiguration(Integrator::kBdf2, 0.0);
+  const double bdf2 = energyAtScenesConfiguration(Integrator::kBdf2, 10.0) - start;
+  const double euler = energyAtScenesConfiguration(Integrator::kImplicitEuler, 10.0) - start;
+  std::printf("energy drift over 10 s at 16 substeps of 1 iteration: bdf2 %+.4f J, implicit_euler "
+              "%+.4f J\n", bdf2, euler);
+  EXPECT_LT(bdf2, 0.0);
+  EXPECT_GT(bdf2, -3.45);
+  EXPECT_LT(euler, bdf2 - 0.5);
+}
+
 TEST(Bdf2, FreeClothConservesLinearMomentum) {
   // sum m x_{n+1} = sum m y (internal forces sum to zero), so P_{n+1} = (4 P_n - P_{n-1}) / 3:
   // constant. The bound is the one implicit Euler's tests use (round-off of x / h).
@@ -232,7 +273,7 @@ TEST(Bdf2, FirstStepIsImplicitEulerThenOneRefactorForTheBdf2Matrix) {
 }
 
 TEST(Bdf2, ExplicitSolversRefuseItNamingTheField) {
-  for (const char* name : {"explicit_euler", "verlet"}) {
+  for (const char* name : {"explicit_euler", "verlet", "xpbd"}) {
     const auto solver = makeSolver(name);
     EXPECT_FALSE(solver->supports(Integrator::kBdf2));
     try {
@@ -244,7 +285,9 @@ TEST(Bdf2, ExplicitSolversRefuseItNamingTheField) {
     }
   }
   for (const std::string& name : solverNames()) {
-    if (name != "explicit_euler" && name != "verlet") EXPECT_TRUE(makeSolver(name)->supports(Integrator::kBdf2));
+    if (name != "explicit_euler" && name != "verlet" && name != "xpbd") {
+      EXPECT_TRUE(makeSolver(name)->supports(Integrator::kBdf2));
+    }
   }
   EXPECT_EQ(integratorFromName("bdf2"), Integrator::kBdf2);
   EXPECT_THROW(integratorFromName("bdf3"), std::invalid_argument);

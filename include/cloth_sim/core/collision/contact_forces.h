@@ -44,9 +44,10 @@ namespace cloth_sim {
 ///
 /// Simulation starts a step with beginStep; an iterative solver then calls begin (once) and
 /// update(x), addForces(rhs) before each global solve, on its own node-ordered buffers: a projected
-/// Jacobi step lambda <- max(0, lambda - gap / (h^2 compliance)), with compliance the point's
+/// Jacobi step lambda <- max(0, lambda - gap / (h_i^2 c_point + h^2 c_sphere)), with c_point the
+/// point's
 /// (sum_j w_j^2 (A^-1)_jj from the solver's matrix, times the number of contacts sharing each
-/// vertex) plus the sphere's (number of its contacts / M_s): mass splitting, so the contacts
+/// vertex) and c_sphere the sphere's (number of its contacts / M_s): mass splitting, so the contacts
 /// updated together do not overshoot together (Tonge et al. 2012). The force reaches the
 /// neighbours of the contact through the global solve, so a sphere feels the cloth's tension,
 /// not just the penetration of one step. Forces are warm-started from the previous step (a
@@ -61,12 +62,16 @@ class ContactForces {
   /// Finds the contacts of the step (called by the solver) from the predicted positions @p y
   /// (3 x N, particle order) and each particle's @p compliance (1/kg: displacement per unit of
   /// right-hand side). From here on the iterates are the solver's node buffers: particle p is at
-  /// doubles kNodeStride * @p particle_node[p] + 0, 1, 2.
+  /// doubles kNodeStride * @p particle_node[p] + 0, 1, 2. @p implicit_h (s) is the cloth step's
+  /// h_i, the step of its h_i^2 E(x) term and matrix M + h_i^2 L (ImplicitStepProblem): h for
+  /// implicit Euler, 2h/3 for BDF2 (docs/method.md, "BDF2"). The forces enter the cloth's
+  /// right-hand side with h_i^2 and the spheres' step with h^2, so a sphere's impulse h lambda
+  /// equals what BDF2's momentum recurrence hands the cloth over the following steps.
   void begin(const Model& model, const Points& y, const Eigen::VectorXd& compliance,
-             const std::vector<int>& particle_node);
+             const std::vector<int>& particle_node, double implicit_h);
   /// Projected Jacobi update of the forces from the gaps of @p x, then the spheres' positions.
   void update(const NodeBuffer& x);
-  /// rhs += h^2 (lambda n + friction) w_j for every active contact and touched vertex j.
+  /// rhs += h_i^2 (lambda n + friction) w_j for every active contact and touched vertex j.
   void addForces(NodeBuffer& rhs) const;
   /// Writes the dynamic spheres' end-of-step positions and velocities into @p colliders and
   /// keeps the forces for the next step's warm start.
@@ -84,7 +89,9 @@ class ContactForces {
     int body;                      ///< index into bodies_; -1: a still half-space (anchor)
     Vec3 normal;                   ///< unit, from the collider to the point
     double lambda;                 ///< N, >= 0
-    double compliance;             ///< 1/kg
+    /// m/N: the gap's change per unit force, h_i^2 times the cloth point's compliance plus h^2
+    /// times the sphere's (mass splitting)
+    double response;
     Vec3 friction = Vec3::Zero();  ///< N, tangential, |friction| <= mu lambda
     Vec3 start = Vec3::Zero();     ///< contact point at the start of the step (m)
     bool triangle = false;         ///< vertex holds a whole triangle (weights may move)
@@ -119,7 +126,8 @@ class ContactForces {
   /// Sets the contacts' offsets and slots; lists the touched vertices.
   void indexVertices(const std::vector<int>& particle_node);
 
-  double h_ = 0.0;
+  double h_ = 0.0;           ///< s, the step (the spheres are integrated over it)
+  double implicit_h_ = 0.0;  ///< s, the cloth step's h_i (begin)
   GroundPlane ground_;                                      ///< this step's ground
   std::vector<std::shared_ptr<const MeshObstacle>> meshes_; ///< this step's mesh obstacles
   std::vector<char> movable_;  ///< this step's movable mask (CollisionStep::movable)

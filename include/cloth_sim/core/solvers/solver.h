@@ -134,6 +134,10 @@ class Solver {
     (void)integrator;
     return true;
   }
+  /// Throws std::invalid_argument naming the field when step() cannot honour @p settings
+  /// (Simulation checks it before a solver or its settings are used). By default: the
+  /// integrator (requireIntegrator).
+  virtual void requireSettings(const SolverSettings& settings) const;
   /// Sparse matrix factorizations done so far (numeric ones; Newton does one per iteration).
   int factorizationCount() const { return factorizations_; }
 

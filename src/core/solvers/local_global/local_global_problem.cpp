@@ -82,7 +82,7 @@ int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& setti
   }
   constant_energy_ = springEnergy3(pinned_springs_, inertial_.data());
   contacts_ = in.contacts;
-  if (contacts_ != nullptr) contacts_->begin(model, y, compliance_, particle_node_);
+  if (contacts_ != nullptr) contacts_->begin(model, y, compliance_, particle_node_, h_);
   return factorizations;
 }
 
