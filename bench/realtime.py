@@ -18,7 +18,8 @@ from diagnostic_msgs.msg import DiagnosticArray
 from cloth_sim.msg import ClothState
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SCENES = ["hanging", "drape", "trampoline", "gravity_well", "tablecloth", "stiff", "peer_cloth"]
+SCENES = ["hanging", "drape", "trampoline", "gravity_well", "tablecloth", "stiff", "peer_cloth",
+          "fold", "pile", "grasp_demo"]
 WARMUP, DURATION = 3.0, 10.0
 LEVELS = {0: "OK", 1: "WARN", 2: "ERROR", 3: "STALE"}
 

@@ -1,4 +1,4 @@
-# The ROS shell (issue 3): node units, cloth_sim_node, pin_teleop and their tests
+# The ROS shell: node units, cloth_sim_node, pin_teleop and their tests
 # (included from CMakeLists.txt, after catkin_package).
 # ---------------------------------------------------------------------------------------------
 # cloth_sim_ros: the node's units (options, conversions, tf, markers, monitoring, handles,

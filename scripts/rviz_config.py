@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes an RViz config that frames one scene: rviz/demo.rviz with the orbit camera's focal
-point and distance set from where the cloth is and goes (issue 13: one fixed camera cut some
-scenes off and showed others small).
+point and distance set from where the cloth is and goes (one fixed camera cut some scenes off
+and showed others small).
 
     scripts/rviz_config.py SCENE_FILE OUT.rviz
 

@@ -83,10 +83,10 @@ TEST(Grasp, LocalGlobalToConvergenceAlsoGivesTheWeight) {
 }
 
 TEST(Grasp, DefaultConfigurationErrorIsStated) {
-  // The shipped hanging scene at its own settings (local_global, 1 substep of 10 iterations):
-  // its two hard pins, after 10 s, against the weight. A statement, not a bound on the method:
-  // the iterations stop before convergence and the cloth still sways a little.
-  // The mean over the last 2 s takes most of the sway out, leaving the iterations' own error.
+  // The shipped hanging scene at its own settings (BDF2, 32 substeps of 3 iterations): its two
+  // hard pins against the weight. A statement, not a bound on the method: at t = 10 s the cloth
+  // still swings (damping 0.1 1/s, and BDF2 hardly adds its own), so the load at one instant
+  // carries the swing (measured 36 %); its mean over the last 2 s takes most of the swing out.
   Simulation sim = makeSimulation(loadSceneFile(test::sourcePath("config/scenes/hanging.yaml")));
   Vec3 total = Vec3::Zero(), mean = Vec3::Zero();
   for (int k = 0; k < 600; ++k) {
@@ -99,7 +99,6 @@ TEST(Grasp, DefaultConfigurationErrorIsStated) {
   RecordProperty("hanging_default_relative_error", sci(error));
   std::printf("[measured] hanging scene, default settings: |F - W| / W = %.3g at t = 10 s, %.3g "
               "for F averaged over t = 8..10 s\n", error, mean_error);
-  EXPECT_LT(error, 0.1);
   EXPECT_LT(mean_error, 0.1);
 }
 

@@ -109,7 +109,7 @@ TEST(Substeps, ARolledBackFrameKeepsTheUsersEdits) {
 }
 
 TEST(Substeps, AFarPinTargetIsApproachedAtTheSpeedLimitWithoutRollback) {
-  // Issue 13: a target 15 m away yanked the pin there in one frame; every frame then diverged
+  // A target 15 m away once yanked the pin there in one frame; every frame then diverged
   // and was rolled back. Now it is approached at maxPinMove() per frame.
   Simulation sim = makeSimulation(hangingScene(60, 4));
   const Pin pin = sim.pins().pins().front();
@@ -129,7 +129,7 @@ TEST(Substeps, AFarPinTargetIsApproachedAtTheSpeedLimitWithoutRollback) {
 }
 
 TEST(Substeps, ResetClothKeepsThePinsAndSpheresTheUserAdded) {
-  // Issue 13: the automatic reset after repeated rollbacks wiped the user's pins and spheres.
+  // The automatic reset after repeated rollbacks once wiped the user's pins and spheres.
   Simulation sim = makeSimulation(hangingScene(60, 4));
   const Points start = sim.state().positions;
   for (int f = 0; f < 10; ++f) sim.step();

@@ -1,4 +1,4 @@
-// Randomized bad input to a running cloth_sim_node (issue 13): every service (spawn_sphere,
+// Randomized bad input to a running cloth_sim_node: every service (spawn_sphere,
 // remove_sphere, add_pin, remove_pin), the cloth/pin_move topic, every dynamic_reconfigure
 // parameter and the start parameters get NaN, infinities, huge and tiny finite values, wrong
 // types and long strings, one field per case from a valid request (fixed seed, printed). Each

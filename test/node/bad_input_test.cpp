@@ -75,7 +75,7 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   r.velocity.x = 0.0;
   r.friction = -1.0;
   cases.emplace_back(r, "friction -1 must be in [0, 100]");
-  // Issue 13: absurd but finite spheres were answered success and then wrecked the scene.
+  // Absurd but finite spheres were once answered success and then wrecked the scene.
   r.friction = 0.0;
   cases.emplace_back(sphere(ok, 1e6), "radius 1e+06 m must be at most the cloth's size, 1 m");
   r.velocity.y = 1e9;
@@ -147,7 +147,7 @@ TEST(BadInput, PinMoveRefusalsAreLoggedThrottledPerKind) {
   send(99, stamped("world", 0.0, 0.0, 1.0));
   send(0, stamped("world", kNaN, 0.0, 1.0));
   send(0, stamped("nowhere", 0.0, 0.0, 1.0));
-  send(0, stamped("world", 1e6, 0.0, 1.0));  // issue 13: accepted, then 30 rollbacks and a reset
+  send(0, stamped("world", 1e6, 0.0, 1.0));  // once accepted, then 30 rollbacks and a reset
   EXPECT_TRUE(p.waitForLog("cloth/pin_move: pin 99: no pin with id 99", 5.0));
   EXPECT_TRUE(p.waitForLog("cloth/pin_move: pin 0: target (1e+06, 0, 1) m is", 5.0));
   EXPECT_TRUE(p.waitForLog("beyond ~sphere_cull_distance = 20 m", 5.0));
@@ -188,7 +188,7 @@ TEST(BadInput, NothingChangedAndTheNodeKeepsPublishing) {
 }
 
 TEST(BadInput, EachResetIsLoggedOnce) {
-  // Issue 13: each reset logged two lines (the service's answer and the reset itself).
+  // Each reset once logged two lines (the service's answer and the reset itself).
   NodeProbe& p = probe();
   const std::string line = "reset to the initial state";
   const int before = p.countLogs(line);

@@ -201,7 +201,7 @@ TEST_F(MarkerBuilderTest, ShadingDarkensByTheShadeFactorOfTheVertexNormal) {
 }
 
 TEST_F(MarkerBuilderTest, ShadedModeIsOneColourShadedWhateverTheStrain) {
-  // Issue 13: the cloth lying on drape's sphere, stretched, was saturated red: a red ball.
+  // The cloth lying on drape's sphere, stretched, was saturated red: a red ball.
   strain_.setConstant(0.5);  // far past the full-colour strain
   style_.color_mode = ColorMode::kShaded;
   const MarkerBuild b = build();

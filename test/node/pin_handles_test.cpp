@@ -58,7 +58,7 @@ TEST(PinHandle, FreeAxisAndPlaneDragsAtTheTarget) {
 }
 
 TEST(PinHandles, ScaleWithTheCloth) {
-  // Issue 13: 0.2 m handles buried a 1 m cloth.
+  // 0.2 m handles once buried a 1 m cloth.
   EXPECT_DOUBLE_EQ(handleSizeFor(1.0), 0.1);
   EXPECT_DOUBLE_EQ(handleSizeFor(2.4), 0.24);
   EXPECT_DOUBLE_EQ(handleSizeFor(0.05), 0.02);  // still grabbable

@@ -129,7 +129,7 @@ std::string strIn(const dynamic_reconfigure::Config& c, const std::string& name)
 }
 
 TEST(Reconfigure, ColorModeSwitchesAndAnUnknownOneIsPutBack) {
-  // Issue 13: a shaded colour mode beside strain (drape's stretched cloth read as a red ball).
+  // A shaded colour mode beside strain (drape's stretched cloth read as a red ball).
   probe();
   EXPECT_EQ(strIn(reconfigure("color_mode", std::string("shaded")), "color_mode"), "shaded");
   EXPECT_EQ(strIn(reconfigure("color_mode", std::string("red")), "color_mode"), "shaded");
@@ -154,7 +154,7 @@ TEST(Reconfigure, AnUnstableSolverIsRolledBackThenResetAndDiagnosed) {
       });
 
   // The user's edits before the trouble: a pin on the bottom-left corner and a still sphere
-  // beside the sheet. Issue 13: the automatic reset wiped both.
+  // beside the sheet. The automatic reset once wiped both.
   AddPin::Request pin_req;
   pin_req.vertex = 11 * 12;  // row 11, col 0
   const auto pin = call<AddPin>("cloth/add_pin", pin_req);

@@ -1,4 +1,4 @@
-// Issue 13: the size of a cloth/markers array against the cloth's size, and the pacing that
+// The size of a cloth/markers array against the cloth's size, and the pacing that
 // keeps the markers under ~marker_bandwidth bytes per second (an 81 x 81 cloth was 1.54 MB an
 // array, 46 MB/s at 30 Hz). The [measured] lines are the table of docs/ros_interface.md.
 #include <cstdio>

@@ -128,7 +128,7 @@ std::string quoted(const std::string& text) {
 }
 
 TEST(RunScene, RandomBadOptionsAreRefusedByNameOrRunWithoutRollback) {
-  // Issue 13: every runner option with NaN, infinities, huge and tiny numbers, wrong types and
+  // Every runner option with NaN, infinities, huge and tiny numbers, wrong types and
   // long strings (fixed seed, printed). Each run exits 1 naming the option, or 0: ran with no
   // rolled-back step (2) and no crash. A small scene keeps the accepted runs short.
   const std::string dir = ::testing::TempDir() + "cloth_sim_run_random";

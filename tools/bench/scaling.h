@@ -1,5 +1,5 @@
 // How the cost of a step grows with the number of dynamic spheres and with the cloth's size
-// against a triangle-mesh obstacle (issue 5's benchmark lines).
+// against a triangle-mesh obstacle.
 #pragma once
 
 #include <string>

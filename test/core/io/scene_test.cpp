@@ -158,7 +158,7 @@ TEST(Scene, MalformedScenesAreRefusedNamingTheField) {
        "self_collision.enabled", "true or false"},
       {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\nself_collision: {margin: 1}",
        "self_collision.margin", "unknown field"},
-      // Issue 13: sizes and positions whose derived masses or lengths overflow or lose precision,
+      // Sizes and positions whose derived masses or lengths overflow or lose precision,
       // and what the cloth cannot follow (scene_limits.h), name the field and the rule.
       {"cloth:\n  grid: {rows: 3, cols: 3, size: [1e308, 1e308]}\nmaterial: {springs: {shear: 1}}",
        "cloth.grid.size[0]", "value 1e308 must be in [0.001, 10000] m"},
