@@ -73,7 +73,7 @@ if(CATKIN_ENABLE_TESTING)
     collision/colliders_test collision/mesh_obstacle_test collision/sphere_impacts_test
     collision/dynamic_spheres_test collision/contact_random_test
     solvers/implicit_euler_problem_test solvers/newton_solver_test solvers/revision_cache_test
-    solvers/bdf2_test
+    solvers/bdf2_test solvers/midpoint_test
     solvers/local_global/local_step_test solvers/local_global/global_system_test
     solvers/local_global/local_global_solver_test
     solvers/baselines/explicit_solvers_test solvers/baselines/local_global_3n_solver_test
