@@ -34,8 +34,8 @@ void SimulationOptions::validate() const {
   }
 }
 
-Simulation::Simulation(Model model, const Points& rest_positions, PinSet pins,
-                       Colliders colliders, SimulationOptions options)
+Simulation::Simulation(Model model, const Points& rest_positions, PinSet pins, Colliders colliders,
+                       SimulationOptions options)
     : model_(std::move(model)),
       pins_(std::move(pins)),
       colliders_(std::move(colliders)),
@@ -107,7 +107,8 @@ StepReport Simulation::step() {
 
   bool finite = state_.allFinite() && std::isfinite(report.max_strain);
   for (const SphereCollider& s : colliders_.spheres()) {
-    finite = finite && s.center.allFinite() && s.velocity.allFinite() && s.angular_velocity.allFinite();
+    finite =
+        finite && s.center.allFinite() && s.velocity.allFinite() && s.angular_velocity.allFinite();
   }
   if (!finite || report.max_strain > options_.divergence_strain) {
     std::ostringstream msg;
@@ -188,9 +189,76 @@ void Simulation::substep(const PinSet& pins, StepReport& report) {
   }
 }
 
+namespace {
+
+/// Kinetic energy 1/2 v^T M v of @p state (J).
+double kineticEnergy(const Model& model, const State& state) {
+  return 0.5 * (state.velocities.colwise().squaredNorm() * model.mass)(0);
+}
+
+/// Kinetic + spring + external potential energy of @p state (J), as Simulation::totalEnergy
+/// but without the hard-pinned particles' kinetic energy: their velocity is prescribed (a pin
+/// teleported by 1 m in one step moves at 1 m / h), not energy the cloth can use.
+double stateEnergy(const Model& model, const PinSet& pins, const State& state, double* mechanical) {
+  double kinetic = kineticEnergy(model, state);
+  for (const Pin& pin : pins.pins()) {
+    if (pin.isHard())
+      kinetic -= 0.5 * model.mass[pin.vertex] * state.velocities.col(pin.vertex).squaredNorm();
+  }
+  *mechanical = kinetic + springEnergy(model.springs, state.positions);
+  return *mechanical + externalPotential(model, pins, state.positions);
+}
+
+/// The implicit midpoint safeguard's tolerance: a step may gain this fraction of the kinetic
+/// plus spring energy at its start (J / J), plus kMidpointGainFloor times m |g| (J / N, i.e.
+/// m) so that a cloth released at rest is not held to its exact energy.
+constexpr double kMidpointGain = 1e-2;
+constexpr double kMidpointGainFloor = 1e-4;
+
+}  // namespace
+
 SolveResult Simulation::solve(const SolverInput& input, StepReport& report) {
   const auto t_solve = std::chrono::steady_clock::now();
-  const SolveResult solved = solver_->step(input, options_.settings, state_);
+  if (options_.settings.integrator != Integrator::kImplicitMidpoint) {
+    const SolveResult solved = solver_->step(input, options_.settings, state_);
+    return finishSolve(solved, t_solve, report);
+  }
+  // Implicit midpoint safeguard. Without moving pins the energy of a step cannot grow (the
+  // damping only removes it); a converged midpoint step keeps it to O(h^2) and an
+  // under-iterated one loses some. Plain midpoint on stiff cloth at large steps gains energy
+  // step after step until it explodes (benchmark.md, "Stability"): a step that gains more than
+  // the tolerance is redone as two implicit Euler steps of h/2. A growth slower than the
+  // tolerance per step is not caught (kept as measured: a running budget caught it, but also
+  // fired on the peers' cloth and cost it most of its energy).
+  const State before = state_;
+  double mechanical = 0.0;
+  const double energy_before = stateEnergy(input.model, input.pins, state_, &mechanical);
+  SolveResult solved = solver_->step(input, options_.settings, state_);
+  double unused = 0.0;
+  const double allowed = kMidpointGain * mechanical +
+                         kMidpointGainFloor * input.model.mass.sum() * input.model.gravity.norm();
+  if (stateEnergy(input.model, input.pins, state_, &unused) - energy_before > allowed) {
+    // Two implicit Euler steps of h/2: their matrix is the midpoint's, M + (h/2)^2 L (same
+    // revision and h_i, so no refactorization), and implicit Euler is L-stable. Contacts are
+    // left to the projection after the step, as under midpoint.
+    state_ = before;
+    SolverSettings euler = options_.settings;
+    euler.integrator = Integrator::kImplicitEuler;
+    const double h = model_.time_step;
+    model_.time_step = 0.5 * h;
+    const SolverInput half{model_, input.pins, input.revision, nullptr};
+    solver_->step(half, euler, state_);
+    solved = solver_->step(half, euler, state_);
+    model_.time_step = h;
+    state_.time = before.time + h;
+    ++report.midpoint_fallbacks;
+  }
+  return finishSolve(solved, t_solve, report);
+}
+
+SolveResult Simulation::finishSolve(const SolveResult& solved,
+                                    std::chrono::steady_clock::time_point t_solve,
+                                    StepReport& report) {
   report.solve_time +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_solve).count();
   ++report.substeps;
@@ -329,7 +397,7 @@ void Simulation::removeSphere(int id) { colliders_.removeSphere(id); }
 void Simulation::moveSphere(int id, const Vec3& center, const Vec3& velocity) {
   const SphereCollider* s = colliders_.findSphere(id);
   const Vec3 from = s != nullptr ? s->center : center;
-  colliders_.moveSphere(id, center, velocity);  // validates; throws for an unknown id
+  colliders_.moveSphere(id, center, velocity);         // validates; throws for an unknown id
   if (colliders_.findSphere(id)->isDynamic()) return;  // a ball is placed at once
   // A kinematic sphere goes there across the next frame's substeps, sweeping the cloth.
   colliders_.moveSphere(id, from, velocity);
@@ -423,8 +491,7 @@ int Simulation::nearestParticle(const Vec3& point) const {
 }
 
 double Simulation::totalEnergy() const {
-  const double kinetic =
-      0.5 * (state_.velocities.colwise().squaredNorm() * model_.mass)(0);
+  const double kinetic = 0.5 * (state_.velocities.colwise().squaredNorm() * model_.mass)(0);
   return kinetic + springEnergy(model_.springs, state_.positions) +
          externalPotential(model_, pins_, state_.positions);
 }

@@ -63,13 +63,18 @@ int main(int argc, char** argv) {
   stab_cmd->add_option("--out", stability.out_dir, "output directory")->capture_default_str();
   stab_cmd->add_option("--grid", stability.grid, "particles per side")->capture_default_str()
       ->check(CLI::Range(3, 200));
-  std::vector<std::string> stability_solvers = cloth_sim::solverNames();  // and "<solver>/bdf2"
+  // And "<solver>/<integrator>" for every other integrator the solver supports.
+  std::vector<std::string> stability_solvers = cloth_sim::solverNames();
   for (const std::string& name : cloth_sim::solverNames()) {
-    if (cloth_sim::makeSolver(name)->supports(cloth_sim::Integrator::kBdf2)) {
-      stability_solvers.push_back(name + "/bdf2");
+    for (const cloth_sim::Integrator integrator : cloth_sim::kIntegrators) {
+      if (integrator == cloth_sim::Integrator::kImplicitEuler) continue;
+      if (cloth_sim::makeSolver(name)->supports(integrator)) {
+        stability_solvers.push_back(name + "/" + cloth_sim::integratorName(integrator));
+      }
     }
   }
-  stab_cmd->add_option("--solvers", stability.solvers, "solvers, <solver>/bdf2 for BDF2")
+  stab_cmd->add_option("--solvers", stability.solvers,
+                       "solvers, <solver>/bdf2 or <solver>/implicit_midpoint for those integrators")
       ->delimiter(',')->capture_default_str()->check(CLI::IsMember(stability_solvers));
   stab_cmd->add_option("--stiffness", stability.stiffness, "structural stiffness values, N/m")
       ->delimiter(',')->check(CLI::PositiveNumber);

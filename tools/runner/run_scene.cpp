@@ -114,7 +114,8 @@ int main(int argc, char** argv) {
       ->check(allowedBy(settings::kTolerance));
   app.add_option("--linear-solver", o.linear_solver, "global step solve (default: fused)")
       ->check(oneOf(linearSolverNames()));
-  app.add_option("--integrator", o.integrator, "implicit_euler or bdf2 (default: the scene's)")
+  app.add_option("--integrator", o.integrator,
+                 "implicit_euler, bdf2 or implicit_midpoint (default: the scene's)")
       ->check(oneOf(integratorNames()));
   auto* csv = app.add_option("--csv", o.csv, "per-step CSV to this file ('-' = stdout)");
   app.add_option("--json", o.json, "per-step JSON to this file ('-' = stdout)")->excludes(csv);

@@ -2,6 +2,7 @@
 /// One simulated object: model, state, pins, colliders and a solver, stepped together.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -48,6 +49,9 @@ struct StepReport {
   double self_contact_time = 0.0;  ///< s of wall time in self-contact (bound and projection)
   double intersection_time = 0.0;  ///< s of wall time in the intersection counter
   double max_strain = 0.0;   ///< max |l - r| / r over the springs after the step
+  /// Substeps of this frame whose implicit midpoint step gained energy and were redone as two
+  /// implicit Euler steps of h/2 (the safeguard, docs/method.md "Implicit midpoint").
+  int midpoint_fallbacks = 0;
   std::string message;       ///< empty when ok; otherwise what went wrong and what was done
 };
 
@@ -189,6 +193,9 @@ class Simulation {
   void substep(const PinSet& pins, StepReport& report);
   /// The solver's step on @p input, its iterations and time added to @p report.
   SolveResult solve(const SolverInput& input, StepReport& report);
+  /// Adds the solve's time (since @p t_solve), iterations and convergence to @p report.
+  SolveResult finishSolve(const SolveResult& solved, std::chrono::steady_clock::time_point t_solve,
+                          StepReport& report);
   /// @p pins_at with the targets of the pins moved since the last frame at fraction @p s of
   /// the way from their last-frame targets.
   void interpolatePins(double s, PinSet& pins_at) const;

@@ -27,6 +27,10 @@ ImplicitStepProblem ImplicitStepProblem::build(const Model& model, const PinSet&
     p.previous = state.previous_positions;
     p.inertial = (4.0 * state.positions - state.previous_positions) / 3.0 +
                  (2.0 * p.h / 9.0) * (4.0 * q * state.velocities - q * q * state.previous_velocities);
+  } else if (integrator == Integrator::kImplicitMidpoint) {
+    p.midpoint = true;
+    p.implicit_h = 0.5 * p.h;
+    p.inertial = state.positions + (0.5 * p.h * velocityDecay(model)) * state.velocities;
   } else {
     p.implicit_h = p.h;
     p.inertial = state.positions + (p.h * velocityDecay(model)) * state.velocities;
@@ -74,9 +78,20 @@ void ImplicitStepProblem::gradient(const Points& x, Points& grad) const {
 
 State ImplicitStepProblem::finish(const Points& x, double start_time) const {
   State next;
-  next.positions = x;
-  if (bdf2) next.velocities = (3.0 * x - 4.0 * start + previous) / (2.0 * h);
-  else next.velocities = (x - start) / h;
+  if (midpoint) {
+    next.positions = 2.0 * x - start;
+    next.velocities = (4.0 / h) * (x - start) - velocityDecay(*model) * start_velocities;
+    for (const Pin& pin : pins->pins()) {
+      // Extrapolating a pinned particle would put it at 2 t - x_n: it follows its target.
+      if (!pin.isHard()) continue;
+      next.positions.col(pin.vertex) = pin.target;
+      next.velocities.col(pin.vertex) = (pin.target - start.col(pin.vertex)) / h;
+    }
+  } else {
+    next.positions = x;
+    if (bdf2) next.velocities = (3.0 * x - 4.0 * start + previous) / (2.0 * h);
+    else next.velocities = (x - start) / h;
+  }
   next.time = start_time + h;
   next.previous_positions = start;
   next.previous_velocities = start_velocities;

@@ -52,6 +52,7 @@ const char* integratorName(Integrator integrator) {
   switch (integrator) {
     case Integrator::kImplicitEuler: return "implicit_euler";
     case Integrator::kBdf2: return "bdf2";
+    case Integrator::kImplicitMidpoint: return "implicit_midpoint";
   }
   return "unknown";
 }

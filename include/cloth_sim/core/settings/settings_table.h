@@ -43,7 +43,7 @@ struct NameSetting {
 namespace settings {
 /// SolverSettings::integrator; names from integratorNames() (solvers/solver.h).
 inline constexpr NameSetting kIntegrator{"solver.integrator", "integrator",
-                                         "Time discretisation: implicit_euler (default) or bdf2 (less numerical damping)"};
+                                         "Time discretisation: implicit_euler (default), bdf2 (less numerical damping) or implicit_midpoint (none)"};
 // clang-format off
 //                                  name                         param                   range                              int    unit      note                 doc                                                   slider
 inline constexpr Setting kIterations{"solver.iterations",       "iterations",           Range::closed(1, 100000),           true,  "",       "",                  "Solver iterations per step (a cap for newton)",     0};

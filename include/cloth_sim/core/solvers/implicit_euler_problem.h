@@ -30,6 +30,17 @@ double velocityDecay(const Model& model);
 ///
 /// Without a valid previous state (State::has_previous) it is an implicit Euler step.
 ///
+/// The implicit midpoint step (Integrator::kImplicitMidpoint, docs/method.md "Implicit
+/// midpoint") is an implicit Euler step of h_i = h/2 to the midpoint, then the explicit half:
+///
+///   x_half = argmin 1/2 |x - y|_M^2 + (h/2)^2 E(x),  y = x_n + (h/2) q v_n,
+///   x_{n+1} = 2 x_half - x_n,  v_{n+1} = 4 (x_half - x_n) / h - q v_n,
+///
+/// which is x_{n+1} - x_n = h (v_n + v_{n+1}) / 2 and M (v_{n+1} - v_n) = h f((x_n + x_{n+1}) / 2)
+/// (q v_n for v_n: a free damped particle's velocity is then exactly q^n v_0). Hard-pinned
+/// particles sit on their targets at the midpoint and end the step there, with the mean
+/// velocity (t - x_n) / h (a moving pin is thus half a step early at the midpoint).
+///
 /// Hard-pinned particles are not unknowns: they sit on their targets in @c inertial and in every
 /// iterate. g is in kg m^2 (energy times h_i^2).
 struct ImplicitStepProblem {
@@ -37,9 +48,10 @@ struct ImplicitStepProblem {
   const PinSet* pins = nullptr;
   double h = 0.0;    ///< s, the time step
   /// s, h_i: the step of the h_i^2 E(x) term and of the global matrix M + h_i^2 L; h for
-  /// implicit Euler, 2h/3 for BDF2.
+  /// implicit Euler, 2h/3 for BDF2, h/2 for implicit midpoint.
   double implicit_h = 0.0;
-  bool bdf2 = false;         ///< a BDF2 step (else implicit Euler)
+  bool bdf2 = false;         ///< a BDF2 step
+  bool midpoint = false;     ///< an implicit midpoint step (neither: implicit Euler)
   Points start;              ///< x_n, m
   Points start_velocities;   ///< v_n, m/s (kept as the next step's history)
   Points previous;           ///< x_{n-1}, m (BDF2 only)
@@ -56,8 +68,10 @@ struct ImplicitStepProblem {
   double objective(const Points& x, double spring_energy) const;
   /// dg/dx (kg m), zero on hard-pinned particles.
   void gradient(const Points& x, Points& grad) const;
-  /// The end-of-step state for positions @p x: v_{n+1} = (x - x_n) / h (BDF2:
-  /// (3 x - 4 x_n + x_{n-1}) / (2h)), time advanced by h, x_n and v_n kept as its history.
+  /// The end-of-step state for the minimiser @p x: v_{n+1} = (x - x_n) / h (BDF2:
+  /// (3 x - 4 x_n + x_{n-1}) / (2h); implicit midpoint: @p x is x_half and the state is
+  /// x_{n+1} = 2 x - x_n, v_{n+1} = 4 (x - x_n) / h - q v_n), time advanced by h, x_n and v_n
+  /// kept as its history.
   State finish(const Points& x, double start_time) const;
 };
 

@@ -38,10 +38,16 @@ enum class Integrator {
   /// Second-order backward differentiation: x_{n+1} = argmin 1/2 |x - y|_M^2 + (4/9) h^2 E(x),
   /// y from the two last states; far less numerical damping, same kind of matrix.
   kBdf2,
+  /// Implicit midpoint: an implicit Euler step of h/2, x_half = argmin 1/2 |x - y|_M^2 +
+  /// (h/2)^2 E(x) with y = x_n + (h/2) v_n, then the explicit half x_{n+1} = 2 x_half - x_n,
+  /// v_{n+1} = 4 (x_half - x_n) / h - v_n. Second order and symplectic: no numerical damping
+  /// (|z| = 1 on a linear oscillator), its own matrix M + (h/2)^2 L.
+  kImplicitMidpoint,
 };
 /// Every Integrator, in the order of the enum.
-inline constexpr Integrator kIntegrators[] = {Integrator::kImplicitEuler, Integrator::kBdf2};
-/// "implicit_euler", "bdf2".
+inline constexpr Integrator kIntegrators[] = {Integrator::kImplicitEuler, Integrator::kBdf2,
+                                              Integrator::kImplicitMidpoint};
+/// "implicit_euler", "bdf2", "implicit_midpoint".
 const char* integratorName(Integrator integrator);
 /// The names of kIntegrators.
 std::vector<std::string> integratorNames();
@@ -83,7 +89,8 @@ struct SolverSettings {
   /// How the linear systems are solved (same result, different speed), see LinearSolver.
   LinearSolver linear_solver = LinearSolver::kFused;
   /// The time discretisation (scene field solver.integrator). The implicit solvers all minimise
-  /// the same ImplicitStepProblem for it; the explicit baselines refuse kBdf2.
+  /// the same ImplicitStepProblem for it; the explicit baselines refuse kBdf2 and
+  /// kImplicitMidpoint.
   Integrator integrator = Integrator::kImplicitEuler;
 
   /// Throws std::invalid_argument naming the first field out of its range

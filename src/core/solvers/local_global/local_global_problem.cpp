@@ -81,7 +81,10 @@ int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& setti
     }
   }
   constant_energy_ = springEnergy3(pinned_springs_, inertial_.data());
-  contacts_ = in.contacts;
+  // Implicit midpoint solves for x_half and extrapolates x_{n+1} = 2 x_half - x_n: a contact
+  // force found at the midpoint would be doubled by the extrapolation, so contacts are left to
+  // Simulation's projection after the step (SolveResult::used_contacts false).
+  contacts_ = problem_.midpoint ? nullptr : in.contacts;
   if (contacts_ != nullptr) contacts_->begin(model, y, compliance_, particle_node_, h_);
   return factorizations;
 }

@@ -31,8 +31,8 @@ namespace cloth_sim {
 /// without pins and gravity. Contacts are left to Simulation's projection after the step
 /// (SolveResult::used_contacts false). Single-threaded.
 ///
-/// It integrates with its own scheme: Integrator::kBdf2 is refused (supports()), and step()
-/// refuses a tolerance or a warm start, which it has no use for, naming the field.
+/// It integrates with its own scheme: kBdf2 and kImplicitMidpoint are refused (supports()), and
+/// step() refuses a tolerance or a warm start, which it has no use for, naming the field.
 class XpbdSolver final : public Solver {
  public:
   const char* name() const override { return "xpbd"; }
@@ -40,8 +40,8 @@ class XpbdSolver final : public Solver {
   bool supports(Integrator integrator) const override {
     return integrator == Integrator::kImplicitEuler;
   }
-  /// Throws std::invalid_argument naming the field for solver.integrator = bdf2,
-  /// solver.tolerance > 0 or solver.warm_start = true.
+  /// Throws std::invalid_argument naming the field for solver.integrator = bdf2 or
+  /// implicit_midpoint, solver.tolerance > 0 or solver.warm_start = true.
   void requireSettings(const SolverSettings& settings) const override;
   /// One step of model.time_step (requireSettings first).
   SolveResult step(const SolverInput& input, const SolverSettings& settings,
