@@ -238,6 +238,13 @@ TEST(Integration, ASpawnedSphereIsDrawnKeepsTheClothOutAndIsRemoved) {
   }
 }
 
+/// @p states from the first one that shows a sphere: a state published before the node handled
+/// the spawn can open the window.
+std::vector<ClothState> withSphere(std::vector<ClothState> states) {
+  while (!states.empty() && states.front().spheres.empty()) states.erase(states.begin());
+  return states;
+}
+
 TEST(Integration, AThrownKinematicSphereKeepsItsVelocityThroughTheCloth) {
   NodeProbe& p = probe();
   reset();
@@ -252,7 +259,7 @@ TEST(Integration, AThrownKinematicSphereKeepsItsVelocityThroughTheCloth) {
   const auto res = call<SpawnSphere>("cloth/spawn_sphere", req);
   ASSERT_TRUE(res.success) << res.message;
 
-  const auto states = p.collectStates(1.5);  // crosses y = 0.5 after about 0.5 s
+  const auto states = withSphere(p.collectStates(1.5));  // crosses y = 0.5 after about 0.5 s
   ASSERT_GE(states.size(), 20u);
   int contacts = 0;
   for (const ClothState& s : states) contacts += s.contacts;
@@ -283,7 +290,7 @@ TEST(Integration, AThrownDynamicSphereFallsAndIsSlowedByTheCloth) {
   const auto res = call<SpawnSphere>("cloth/spawn_sphere", req);
   ASSERT_TRUE(res.success) << res.message;
 
-  const auto states = p.collectStates(0.8);
+  const auto states = withSphere(p.collectStates(0.8));
   ASSERT_GE(states.size(), 10u);
   int contacts = 0;
   double push = 0.0;  // m/s: how much slower than a free fall since the first state
