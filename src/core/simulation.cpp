@@ -131,12 +131,8 @@ StepReport Simulation::step() {
   updateGraspWrenches();
   sphere_jumps_.clear();
   // A grasp's pins follow its frame (placeGrasps), not the speed limit of the user's moves.
-  for (const Grasp& g : grasps_) {
-    for (int id : g.pin_ids) {
-      for (auto& [pin_id, target] : frame_end) {
-        if (pin_id == id) target = pins_.find(id)->target;
-      }
-    }
+  for (auto& [id, target] : frame_end) {
+    if (isGrasped(id)) target = pins_.find(id)->target;
   }
   frame_targets_ = std::move(frame_end);
   if (self_contact_) {
@@ -507,15 +503,18 @@ namespace cloth_sim {
 
 void Simulation::clearLoads() { pin_loads_.assign(pins_.size(), Vec3::Zero()); }
 
-void Simulation::requireNotGrasped(int id, const char* what) const {
+const Grasp* Simulation::graspOf(int pin_id) const {
   for (const Grasp& g : grasps_) {
-    for (int pin_id : g.pin_ids) {
-      if (pin_id == id) {
-        throw std::invalid_argument("pin " + std::to_string(id) + " belongs to grasp " +
-                                    std::to_string(g.id) + " and cannot be " + what +
-                                    " on its own (release the grasp)");
-      }
-    }
+    if (std::find(g.pin_ids.begin(), g.pin_ids.end(), pin_id) != g.pin_ids.end()) return &g;
+  }
+  return nullptr;
+}
+
+void Simulation::requireNotGrasped(int id, const char* what) const {
+  if (const Grasp* g = graspOf(id)) {
+    throw std::invalid_argument("pin " + std::to_string(id) + " belongs to grasp " +
+                                std::to_string(g->id) + " and cannot be " + what +
+                                " on its own (release the grasp)");
   }
 }
 

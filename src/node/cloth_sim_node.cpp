@@ -214,11 +214,7 @@ std::vector<Pin> ClothSimNode::handledPins() const {
   // A grasp's pins follow its frame: a handle on them would only be refused.
   std::vector<Pin> pins;
   for (const Pin& pin : sim_.pins().pins()) {
-    bool grasped = false;
-    for (const Grasp& g : sim_.grasps()) {
-      grasped = grasped || std::find(g.pin_ids.begin(), g.pin_ids.end(), pin.id) != g.pin_ids.end();
-    }
-    if (!grasped) pins.push_back(pin);
+    if (!sim_.isGrasped(pin.id)) pins.push_back(pin);
   }
   return pins;
 }

@@ -118,6 +118,9 @@ class Simulation {
   /// follow the frame given by the pose source (setGraspPoseSource; without one, the frame stays
   /// at @p pose). Returns the grasp id. Throws std::invalid_argument naming what is wrong.
   int addGrasp(const std::vector<int>& vertices, const Pose& pose);
+  /// The grasp holding pin @p pin_id, or nullptr for a pin of the user's own.
+  const Grasp* graspOf(int pin_id) const;
+  bool isGrasped(int pin_id) const { return graspOf(pin_id) != nullptr; }
   /// Lets go of grasp @p id: its pins are removed and its particles fall free.
   void removeGrasp(int id);
   /// The function asked, at each substep, where each grasp's frame is (empty: frames stay put).
