@@ -93,7 +93,10 @@ struct SphereReaction {
 class SphereCandidates {
  public:
   SphereCandidates(const std::vector<SphereCollider>& spheres, double h) : spheres_(spheres) {
-    if (spheres.size() <= kDirect) return;
+    if (spheres.size() <= kDirect) {
+      for (const auto& s : spheres) boxes_.push_back(sweptBox(s, h));
+      return;
+    }
     double largest = 0.0;
     for (const auto& s : spheres) largest = std::max(largest, s.radius + h * s.velocity.norm());
     hash_ = SpatialHash(2.0 * largest);
@@ -101,12 +104,14 @@ class SphereCandidates {
   }
   template <typename Visit>
   void forEach(const Vec3& a, const Vec3& b, Visit&& visit) const {
-    if (spheres_.size() <= kDirect) {
-      for (std::size_t k = 0; k < spheres_.size(); ++k) visit(k);
-      return;
-    }
     Eigen::AlignedBox3d box;
     box.extend(a).extend(b);
+    if (spheres_.size() <= kDirect) {
+      for (std::size_t k = 0; k < spheres_.size(); ++k) {
+        if (boxes_[k].intersects(box)) visit(k);
+      }
+      return;
+    }
     hash_.query(box, [&](int k) { visit(static_cast<std::size_t>(k)); });
   }
 
@@ -120,6 +125,7 @@ class SphereCandidates {
     return box;
   }
   const std::vector<SphereCollider>& spheres_;
+  std::vector<Eigen::AlignedBox3d> boxes_;  ///< few spheres: each one's swept box
   SpatialHash hash_;
 };
 

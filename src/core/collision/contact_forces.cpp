@@ -55,7 +55,33 @@ Vec3 nodeAt(const NodeBuffer& x, int offset) { return Vec3(x[offset], x[offset +
 
 }  // namespace
 
-void ContactForces::addCandidates(std::size_t k, const Model& model, const Points& y) {
+void ContactForces::boxFeatures(const Model& model, const Points& y) {
+  // Shared by every dynamic sphere of the step: one box per movable feature, built once.
+  features_.clear();
+  feature_boxes_.clear();
+  std::vector<Eigen::AlignedBox3d> vertex_box(y.cols());
+  for (Eigen::Index i = 0; i < y.cols(); ++i) {
+    vertex_box[i].extend(Vec3(start_.col(i))).extend(Vec3(y.col(i)));
+  }
+  auto add = [&](const std::array<int, 3>& v, int count) {
+    Eigen::AlignedBox3d box;
+    for (int j = 0; j < count; ++j) {
+      if (!movable_[v[j]]) return;  // a pinned vertex cannot be pushed
+      box.extend(vertex_box[v[j]]);
+    }
+    features_.push_back({v, count});
+    feature_boxes_.push_back(box);
+  };
+  if (model.triangles.cols() > 0) {
+    for (Eigen::Index t = 0; t < model.triangles.cols(); ++t) {
+      add({model.triangles(0, t), model.triangles(1, t), model.triangles(2, t)}, 3);
+    }
+  } else {
+    for (Eigen::Index i = 0; i < y.cols(); ++i) add({static_cast<int>(i), 0, 0}, 1);
+  }
+}
+
+void ContactForces::addCandidates(std::size_t k, const Points& y) {
   const Points& start = start_;
   const Body& body = bodies_[k];
   const double reach = body.radius * (1.0 + kMarginRadii);
@@ -65,12 +91,6 @@ void ContactForces::addCandidates(std::size_t k, const Model& model, const Point
   swept.max().array() += reach;
   std::set<std::array<int, 3>> seen;  // a feature (vertex, edge, face) shared by triangles
   auto consider = [&](const std::array<int, 3>& v, int count) {
-    for (int j = 0; j < count; ++j) {
-      if (!movable_[v[j]]) return;  // a pinned vertex cannot be pushed
-    }
-    Eigen::AlignedBox3d box;
-    for (int j = 0; j < count; ++j) box.extend(Vec3(start.col(v[j]))).extend(Vec3(y.col(v[j])));
-    if (!box.intersects(swept)) return;
     Contact c{v, {1.0, 0.0, 0.0}, static_cast<int>(k), Vec3::UnitZ(), 0.0, 0.0};
     if (count == 3) {
       // The triangle's point closest to the sphere, as barycentric weights for the step.
@@ -97,12 +117,8 @@ void ContactForces::addCandidates(std::size_t k, const Model& model, const Point
     c.source = body.id;
     contacts_.push_back(c);
   };
-  if (model.triangles.cols() > 0) {
-    for (Eigen::Index t = 0; t < model.triangles.cols(); ++t) {
-      consider({model.triangles(0, t), model.triangles(1, t), model.triangles(2, t)}, 3);
-    }
-  } else {
-    for (Eigen::Index i = 0; i < y.cols(); ++i) consider({static_cast<int>(i), 0, 0}, 1);
+  for (std::size_t f = 0; f < features_.size(); ++f) {
+    if (feature_boxes_[f].intersects(swept)) consider(features_[f].vertex, features_[f].count);
   }
 }
 
@@ -158,10 +174,13 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
   const Points& start = start_;
   implicit_h_ = implicit_h;
   contacts_.clear();
+  const bool any_dynamic = std::any_of(bodies_.begin(), bodies_.end(),
+                                       [](const Body& b) { return b.inv_mass > 0.0; });
+  if (any_dynamic) boxFeatures(model, y);
   for (std::size_t k = 0; k < bodies_.size(); ++k) {
     // Kinematic spheres keep the post-solve projection (in the solve a soft cloth sagged past
     // 100 % strain on one in the stability sweep).
-    if (bodies_[k].inv_mass > 0.0) addCandidates(k, model, y);
+    if (bodies_[k].inv_mass > 0.0) addCandidates(k, y);
   }
   addStillCandidates(model, y);
   // Mass splitting: count the contacts sharing each vertex and each sphere.

@@ -116,7 +116,15 @@ class ContactForces {
   /// Warm-start key of a still collider (-1: the ground, m >= 0: mesh obstacle m), below
   /// every sphere id (>= 0).
   static int stillSource(int collider) { return -2 - collider; }
-  void addCandidates(std::size_t body, const Model& model, const Points& y);
+  /// A cloth feature a sphere may touch: a triangle (count 3) or, without triangles, a vertex.
+  struct Feature {
+    std::array<int, 3> vertex;
+    int count;
+  };
+  /// Lists the features with no pinned vertex and their boxes over the step (start to @p y).
+  void boxFeatures(const Model& model, const Points& y);
+  /// Adds the contacts of dynamic sphere @p body with the features near its swept path.
+  void addCandidates(std::size_t body, const Points& y);
   /// Vertex contacts with the ground and the mesh obstacles (still half-spaces, no reaction).
   void addStillCandidates(const Model& model, const Points& y);
   /// Signed distance (m) of the contact point beyond the contact's half-space.
@@ -134,6 +142,8 @@ class ContactForces {
   Points start_;               ///< this step's start positions (CollisionStep::start)
   std::vector<Contact> contacts_;
   std::vector<Body> bodies_;
+  std::vector<Feature> features_;                    ///< boxFeatures' features
+  std::vector<Eigen::AlignedBox3d> feature_boxes_;   ///< and their swept boxes (m)
   /// Node offsets of the vertices the contacts touch, and their summed force (work buffer of
   /// addForces: each vertex's forces are summed before they reach the right-hand side).
   std::vector<int> touched_;
