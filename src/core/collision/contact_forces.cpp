@@ -216,7 +216,7 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
     c.lambda = 0.0;
     for (int j = 0; j < 3; ++j) {
       if (c.weight[j] <= 0.0) continue;
-      const auto it = vertex_force_.find({c.source, c.vertex[j]});
+      const auto it = vertex_force_.find(forceKey(c.source, c.vertex[j]));
       if (it != vertex_force_.end()) c.lambda += c.weight[j] * it->second / per_vertex[c.vertex[j]];
     }
   }
@@ -226,13 +226,16 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
 
 void ContactForces::indexVertices(const std::vector<int>& particle_node) {
   touched_.clear();
-  std::map<int, int> slot_of;  // vertex -> slot
+  slot_of_.assign(particle_node.size(), -1);  // vertex -> slot, in order of first touch
   for (Contact& c : contacts_) {
     for (int j = 0; j < 3; ++j) {
       c.offset[j] = kNodeStride * particle_node[c.vertex[j]];
-      const auto [it, added] = slot_of.emplace(c.vertex[j], static_cast<int>(touched_.size()));
-      if (added) touched_.push_back(c.offset[j]);
-      c.slot[j] = it->second;
+      int& slot = slot_of_[c.vertex[j]];
+      if (slot < 0) {
+        slot = static_cast<int>(touched_.size());
+        touched_.push_back(c.offset[j]);
+      }
+      c.slot[j] = slot;
     }
   }
   touched_force_.assign(touched_.size(), Vec3::Zero());
@@ -335,7 +338,7 @@ void ContactForces::finish(Colliders& colliders) {
   for (const Contact& c : contacts_) {
     if (c.lambda <= 0.0) continue;
     for (int j = 0; j < 3; ++j) {
-      if (c.weight[j] > 0.0) vertex_force_[{c.source, c.vertex[j]}] += c.lambda * c.weight[j];
+      if (c.weight[j] > 0.0) vertex_force_[forceKey(c.source, c.vertex[j])] += c.lambda * c.weight[j];
     }
   }
 }

@@ -47,6 +47,7 @@ MeshObstacle::MeshObstacle(TriangleMesh mesh, double thickness, double friction,
   boxes_.reserve(mesh_.triangleCount());
   for (int t = 0; t < mesh_.triangleCount(); ++t) {
     boxes_.push_back(triangleBox(t));
+    bounds_.extend(boxes_.back());
     grid_.insert(t, boxes_.back());
   }
 }
@@ -62,6 +63,7 @@ bool MeshObstacle::clear(const Vec3& a, const Vec3& b) const {
   box.extend(a).extend(b);
   box.min().array() -= thickness_;
   box.max().array() += thickness_;
+  if (!bounds_.intersects(box)) return true;
   bool hit = false;
   grid_.query(box, [&](int t) {
     if (hit || !boxes_[t].intersects(box)) return;
@@ -84,6 +86,7 @@ bool MeshObstacle::collide(const Vec3& start, Vec3& end, const std::optional<Vec
     box.extend(start).extend(end);
     box.min().array() -= thickness_;
     box.max().array() += thickness_;
+    if (!bounds_.intersects(box)) break;
     double first_crossing = std::numeric_limits<double>::infinity();
     int crossed = -1;
     int nearest = -1;
@@ -145,6 +148,7 @@ bool MeshObstacle::nearest(const Vec3& p, double reach, Vec3& point, Vec3& norma
   Eigen::AlignedBox3d box(p);
   box.min().array() -= reach;
   box.max().array() += reach;
+  if (!bounds_.intersects(box)) return false;
   double best = reach;
   grid_.query(box, [&](int t) {
     if (!boxes_[t].intersects(box)) return;

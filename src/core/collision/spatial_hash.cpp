@@ -11,10 +11,6 @@ SpatialHash::SpatialHash(double cell_size) : cell_size_(cell_size) {
   }
 }
 
-Eigen::Vector3i SpatialHash::cellOf(const Eigen::Vector3d& p) const {
-  return (p / cell_size_).array().floor().cast<int>();
-}
-
 SpatialHash::Key SpatialHash::key(int x, int y, int z) {
   // 21 bits per axis (two's complement folded): distinct keys within +-2^20 cells.
   const auto fold = [](int v) { return static_cast<Key>(static_cast<std::uint32_t>(v) & 0x1FFFFFu); };

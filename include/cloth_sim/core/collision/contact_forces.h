@@ -3,8 +3,9 @@
 #pragma once
 
 #include <array>
-#include <map>
+#include <cstdint>
 #include <memory>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -148,7 +149,13 @@ class ContactForces {
   /// addForces: each vertex's forces are summed before they reach the right-hand side).
   std::vector<int> touched_;
   mutable std::vector<Vec3> touched_force_;
-  std::map<std::pair<int, int>, double> vertex_force_;  ///< (Contact::source, vertex) -> N
+  std::vector<int> slot_of_;  ///< indexVertices' work buffer: a vertex's slot in touched_, or -1
+  /// Key of vertex_force_: a contact's source (any int) and a vertex (>= 0).
+  static std::uint64_t forceKey(int source, int vertex) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(source)) << 32) |
+           static_cast<std::uint32_t>(vertex);
+  }
+  std::unordered_map<std::uint64_t, double> vertex_force_;  ///< forceKey(source, vertex) -> N
 };
 
 }  // namespace cloth_sim

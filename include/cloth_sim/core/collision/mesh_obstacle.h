@@ -53,6 +53,7 @@ class MeshObstacle {
   TriangleMesh mesh_;
   std::vector<Vec3> normals_;  ///< unit normal of each triangle (any orientation)
   std::vector<Eigen::AlignedBox3d> boxes_;  ///< bounding box of each triangle
+  Eigen::AlignedBox3d bounds_;               ///< of the whole mesh: queries away from it end early
   double thickness_;
   double friction_;
   SpatialHash grid_;

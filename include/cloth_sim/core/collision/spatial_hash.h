@@ -27,7 +27,9 @@ class SpatialHash {
 
  private:
   using Key = std::uint64_t;
-  Eigen::Vector3i cellOf(const Eigen::Vector3d& p) const;
+  Eigen::Vector3i cellOf(const Eigen::Vector3d& p) const {
+    return (p / cell_size_).array().floor().cast<int>();
+  }
   static Key key(int x, int y, int z);
 
   double cell_size_;
