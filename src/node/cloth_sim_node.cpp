@@ -49,6 +49,7 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       nh_(nh),
       pnh_(pnh),
       diagnostics_(nh, pnh) {
+  setFrameBudget(options_.budget_ms);
   style_.strain_color_scale = options_.strain_color_scale;
   style_.shading = options_.shading;
   style_.color_mode = colorModeFromName(options_.color_mode);  // checked by validateNodeOptions
@@ -158,6 +159,7 @@ void ClothSimNode::stepFrame() {
   }
   publishWrenches(header.stamp);
   publishClock();
+  if (!rolled_back) adaptSubsteps();
 
   if (must_reset) {
     char why[160];
@@ -168,6 +170,23 @@ void ClothSimNode::stepFrame() {
     resetSimulation(why, /*automatic=*/true);
   }
   cullSpheres();
+}
+
+void ClothSimNode::setFrameBudget(double budget_ms) {
+  if (budget_ms > 0.0) budget_.emplace(1e-3 * budget_ms, 1, settings::kSubsteps.range.max);
+  else budget_.reset();
+}
+
+void ClothSimNode::adaptSubsteps() {
+  if (!budget_) return;
+  SolverSettings settings = sim_.solverSettings();
+  const int chosen = budget_->next(settings.substeps, last_report_.wall_time);
+  if (chosen == settings.substeps) return;
+  settings.substeps = chosen;
+  sim_.setSolverSettings(settings);  // a valid count (FrameBudget keeps to kSubsteps' range)
+  ROS_INFO_THROTTLE(1.0, "~budget_ms %.2f: %d substeps per frame (one substep %.3f ms)",
+                    1e3 * budget_->budget(), chosen, 1e3 * budget_->substepCost());
+  if (reconfigure_) reconfigure_->updateConfig(currentConfig());
 }
 
 void ClothSimNode::render(const ros::SteadyTimerEvent&) {
@@ -271,6 +290,7 @@ void ClothSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status)
   status.add("scene", scene_name_);
   status.add("solver", sim_.solver().name());
   status.add("substeps per frame", sim_.solverSettings().substeps);
+  status.addf("frame budget (ms)", "%.3f", budget_ ? 1e3 * budget_->budget() : 0.0);
   status.add("iterations per substep", sim_.solverSettings().max_iterations);
   status.addf("step budget (ms)", "%.3f", 1e3 * w.budget);
   status.addf("mean step time (ms)", "%.3f", 1e3 * w.mean_time);
@@ -314,6 +334,7 @@ ClothSimConfig ClothSimNode::currentConfig() const {
   c.solver = sim_.solver().name();
   c.iterations = sim_.solverSettings().max_iterations;
   c.substeps = sim_.solverSettings().substeps;
+  c.budget_ms = budget_ ? 1e3 * budget_->budget() : 0.0;
   c.self_collision = sim_.selfContact() != nullptr;
   c.color_mode = style_.color_mode == ColorMode::kShaded ? "shaded" : "strain";
   return c;
@@ -359,6 +380,12 @@ void ClothSimNode::onReconfigure(ClothSimConfig& config, std::uint32_t /*level*/
         [&] { config.color_mode = current.color_mode; });
   applySolverSetting("iterations", &ClothSimConfig::iterations, &SolverSettings::max_iterations);
   applySolverSetting("substeps", &ClothSimConfig::substeps, &SolverSettings::substeps);
+  apply("budget_ms", config.budget_ms != current.budget_ms,
+        [&] {
+          settings::kFrameBudget.require(config.budget_ms);
+          setFrameBudget(config.budget_ms);
+        },
+        [&] { config.budget_ms = current.budget_ms; });
   apply("self_collision", config.self_collision != current.self_collision,
         [&] {
           SelfContactSettings self = sim_.options().self_contact;

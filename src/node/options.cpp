@@ -126,6 +126,7 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
   read.get("publish_clock", o.publish_clock);
   read.get("real_time_factor", o.real_time_factor);
   read.get("start_paused", o.start_paused);
+  read.get("budget_ms", o.budget_ms);
   read.get("grasp_frame_timeout", o.grasp_frame_timeout);
   read.get("force_arrow_scale", o.force_arrow_scale);
   read.get("marker_bandwidth", o.marker_bandwidth);
@@ -180,7 +181,8 @@ void validateNodeOptions(const NodeOptions& o) {
   for (const auto& [value, setting] :
        {std::pair{o.real_time_factor, &settings::kRealTimeFactor},
         std::pair{o.grasp_frame_timeout, &settings::kGraspFrameTimeout},
-        std::pair{o.force_arrow_scale, &settings::kForceArrowScale}}) {
+        std::pair{o.force_arrow_scale, &settings::kForceArrowScale},
+        std::pair{o.budget_ms, &settings::kFrameBudget}}) {
     const std::string problem = violation(value, *setting);
     if (!problem.empty()) fail(setting->param, problem);
   }

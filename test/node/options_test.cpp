@@ -81,7 +81,9 @@ TEST(NodeOptions, SimulatedTimeAndGraspParameters) {
   EXPECT_FALSE(defaults.start_paused);
   EXPECT_EQ(defaults.grasp_frame_timeout, 0.5);
   EXPECT_EQ(defaults.force_arrow_scale, 0.5);
+  EXPECT_EQ(defaults.budget_ms, 0.0);
   XmlRpc::XmlRpcValue p = params();
+  p["budget_ms"] = 8.3;
   p["publish_clock"] = true;
   p["real_time_factor"] = 0;  // an int: as fast as possible
   p["start_paused"] = true;
@@ -93,10 +95,13 @@ TEST(NodeOptions, SimulatedTimeAndGraspParameters) {
   EXPECT_TRUE(o.start_paused);
   EXPECT_EQ(o.grasp_frame_timeout, 2.0);
   EXPECT_EQ(o.force_arrow_scale, 0.0);
+  EXPECT_EQ(o.budget_ms, 8.3);
   for (const auto& [param, value, message] :
        {std::tuple{"real_time_factor", -1.0, "parameter '~real_time_factor': -1 must be in [0, 1000] (0 = as fast as possible)"},
         std::tuple{"real_time_factor", 1e9, "parameter '~real_time_factor': 1e+09 must be in [0, 1000]"},
         std::tuple{"grasp_frame_timeout", 0.0, "parameter '~grasp_frame_timeout': 0 s must be finite and > 0"},
+        std::tuple{"budget_ms", -1.0, "parameter '~budget_ms': -1 ms must be in [0, 1000] (0 = off)"},
+        std::tuple{"budget_ms", std::nan(""), "parameter '~budget_ms': nan ms must be in [0, 1000] (0 = off)"},
         std::tuple{"force_arrow_scale", -0.1, "parameter '~force_arrow_scale': -0.1 m/N must be finite and >= 0"}}) {
     XmlRpc::XmlRpcValue bad = params();
     bad[param] = value;

@@ -120,6 +120,29 @@ TEST(Reconfigure, SubstepsSplitTheFrameWhichStaysTheStep) {
   EXPECT_TRUE(p.waitForState([](const ClothState& c) { return c.substeps == 1; }, 3.0));
 }
 
+TEST(Reconfigure, AFrameBudgetPicksTheSubstepsAndOffLeavesThemAlone) {
+  NodeProbe& p = probe();
+  // 400 substeps of 10 iterations cost far more than 0.3 ms on any machine: the budget must
+  // bring them down within a few frames (the first frame after a change is not counted).
+  reconfigure("substeps", 400);
+  ASSERT_TRUE(p.waitForState([](const ClothState& c) { return c.substeps == 400; }, 5.0));
+  EXPECT_EQ(doubleIn(reconfigure("budget_ms", 0.3), "budget_ms"), 0.3);
+  const auto fitted = p.waitForState([](const ClothState& c) { return c.substeps < 400; }, 5.0);
+  ASSERT_TRUE(fitted) << "still " << p.latestState().substeps << " substeps";
+  // Off: the substeps stay what the user sets.
+  EXPECT_EQ(doubleIn(reconfigure("budget_ms", 0.0), "budget_ms"), 0.0);
+  reconfigure("substeps", 1);
+  ASSERT_TRUE(p.waitForState([](const ClothState& c) { return c.substeps == 1; }, 3.0));
+  for (const ClothState& c : p.collectStates(1.5)) EXPECT_EQ(c.substeps, 1);
+  // A generous budget lets them grow (by a quarter at most, after half a second under it).
+  reconfigure("budget_ms", 50.0);
+  EXPECT_TRUE(p.waitForState([](const ClothState& c) { return c.substeps > 1; }, 5.0))
+      << "still " << p.latestState().substeps << " substeps";
+  reconfigure("budget_ms", 0.0);
+  reconfigure("substeps", 1);
+  EXPECT_TRUE(p.waitForState([](const ClothState& c) { return c.substeps == 1; }, 3.0));
+}
+
 std::string strIn(const dynamic_reconfigure::Config& c, const std::string& name) {
   for (const auto& p : c.strs) {
     if (p.name == name) return p.value;

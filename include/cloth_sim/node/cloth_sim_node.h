@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -29,6 +30,7 @@
 #include <cloth_sim/SpawnSphere.h>
 #include <cloth_sim/Step.h>
 
+#include "cloth_sim/core/frame_budget.h"
 #include "cloth_sim/core/io/scene_limits.h"
 #include "cloth_sim/core/simulation.h"
 #include "cloth_sim/node/frame_resolver.h"
@@ -65,6 +67,10 @@ class ClothSimNode {
   /// One frame: the core's step, the monitor, cloth/state, the wrenches, /clock, and the
   /// automatic reset when due.
   void stepFrame();
+  /// Frame budget on (> 0 ms) or off (0).
+  void setFrameBudget(double budget_ms);
+  /// With a frame budget: the next frame's substeps from this frame's wall time.
+  void adaptSubsteps();
   void render(const ros::SteadyTimerEvent&);
   void logSummary(const ros::SteadyTimerEvent&);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
@@ -120,6 +126,8 @@ class ClothSimNode {
   std::string scene_name_;
   Simulation sim_;
   StepMonitor monitor_;
+  /// ~budget_ms / reconfigure budget_ms > 0: picks each frame's substeps (adaptSubsteps).
+  std::optional<FrameBudget> budget_;
   LogThrottle refusals_{5.0};
   MarkerStyle style_;
   ShownMarkers shown_;

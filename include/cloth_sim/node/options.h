@@ -58,6 +58,9 @@ struct NodeOptions {
   /// ~real_time_factor, [0, 1000] (settings::kRealTimeFactor): simulated seconds per wall
   /// second; 0 = step as fast as the machine can.
   double real_time_factor = 1.0;
+  /// ~budget_ms, ms, [0, 1000] (settings::kFrameBudget): when > 0, the substeps per frame adapt
+  /// to keep a frame's wall time within this (FrameBudget); 0 = the substeps stay as set.
+  double budget_ms = 0.0;
   /// ~start_paused: wait for cloth/unpause or cloth/step before the first frame.
   bool start_paused = false;
   /// ~grasp_frame_timeout, s, > 0 (settings::kGraspFrameTimeout): a grasp frame whose latest

@@ -75,6 +75,7 @@ inline constexpr Setting kSelfFriction{"self_collision.friction", "",           
 inline constexpr Setting kGraspRadius{"grasp.radius",          "",                     Range::atLeast(0),                  false, "m",      "(0 = the nearest free particle)", "Particles within this of a grasp point are held", 0};
 inline constexpr Setting kRealTimeFactor{"real_time_factor",    "real_time_factor",     Range::closed(0, 1000),             false, "",       "(0 = as fast as possible)", "Simulated seconds per wall-clock second",     0};
 inline constexpr Setting kGraspFrameTimeout{"grasp_frame_timeout", "grasp_frame_timeout", Range::above(0),                  false, "s",      "",                  "A grasp frame whose latest transform is older is stale", 0};
+inline constexpr Setting kFrameBudget{"budget_ms",              "budget_ms",            Range::closed(0, 1000),             false, "ms",     "(0 = off)",         "Wall-clock budget of a frame: the substeps adapt to fit it (0 = off)", 100};
 inline constexpr Setting kForceArrowScale{"force_arrow_scale",  "force_arrow_scale",    Range::atLeast(0),                  false, "m/N",    "",                  "Length of a grasp's force arrow per newton",        0};
 // Where things may be, and how hard gravity may pull: a coordinate within 1000 km of the origin
 // keeps a double's resolution under 1e-9 m there, so rest lengths and contacts stay exact.
@@ -90,7 +91,7 @@ inline constexpr const Setting* kAllSettings[] = {
     &kGridSize,    &kMeshScale,           &kMeshThickness,   &kPinStiffness,     &kSphereRadius,
     &kSphereMass,  &kRestitution,         &kFriction,        &kCoordinate,       &kGravity,
     &kSelfThickness, &kSelfFriction,      &kGraspRadius,     &kRealTimeFactor,   &kGraspFrameTimeout,
-    &kForceArrowScale};
+    &kForceArrowScale, &kFrameBudget};
 }  // namespace settings
 
 }  // namespace cloth_sim
