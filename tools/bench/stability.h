@@ -25,7 +25,8 @@ struct StabilityOptions {
   std::vector<double> time_steps = {1.0 / 240, 1.0 / 120, 1.0 / 60, 1.0 / 30, 1.0 / 15};
   /// A solver name, or "<solver>/<integrator>" for another SolverSettings::integrator.
   std::vector<std::string> solvers = {"explicit_euler", "verlet", "newton", "local_global",
-                                      "chebyshev", "local_global_3n", "local_global/bdf2"};
+                                      "chebyshev", "local_global_3n", "local_global/bdf2",
+                                      "local_global/implicit_midpoint", "xpbd"};
   std::vector<Scenario> scenarios = {Scenario::kRelease, Scenario::kTeleport, Scenario::kSphere};
   int iterations = 10;               ///< per step (newton: cap)
   /// s: the event is at 0.5 s; 2.5 s later even the 10 N/m cloth has settled under 100 %.
