@@ -38,10 +38,12 @@ struct Config {
   int iterations = 1;
   double tolerance = 0.0;
   Integrator integrator = Integrator::kImplicitEuler;
-  /// The solver column: "local_global", "local_global/bdf2".
+  bool warm = false;  ///< SolverSettings::warm_start
+  /// The solver column: "local_global", "local_global/bdf2", "anderson+warm/bdf2".
   std::string name() const {
-    return integrator == Integrator::kImplicitEuler ? solver
-                                                    : solver + "/" + integratorName(integrator);
+    const std::string base = warm ? solver + "+warm" : solver;
+    return integrator == Integrator::kImplicitEuler ? base
+                                                    : base + "/" + integratorName(integrator);
   }
   std::string label() const {
     return name() + " s" + std::to_string(substeps) + " i" +
@@ -79,6 +81,7 @@ Trajectory run(SceneConfig scene, const Config& config, const std::vector<int>& 
   scene.options.settings.max_iterations = config.iterations;
   scene.options.settings.tolerance = config.tolerance;
   scene.options.settings.integrator = config.integrator;
+  scene.options.settings.warm_start = config.warm;
   Simulation sim = makeSimulation(scene);
   Trajectory t;
   std::size_t next = 0;
@@ -236,8 +239,10 @@ std::vector<Config> configsFor(const AccuracyOptions& o, int grid) {
         for (int s : o.xpbd_substeps) configs.push_back({solver, s, 1, 0.0, integrator});
         continue;
       }
+      // Warm starts exist for the local/global family (SolverSettings::warm_start).
+      const bool warm = o.warm_start && solver != "newton" && solver != "local_global_3n";
       for (int s : o.substeps) {
-        for (int i : o.iterations) configs.push_back({solver, s, i, 0.0, integrator});
+        for (int i : o.iterations) configs.push_back({solver, s, i, 0.0, integrator, warm});
       }
     }
     if (grid <= o.newton_max_grid) {

@@ -45,6 +45,8 @@ struct AccuracyOptions {
   /// a huge velocity: trampoline-64 ended with 460 J instead of a few).
   std::string reference = "auto";
   int reference_substeps = 32;
+  /// Run the local/global family's configurations warm-started (SolverSettings::warm_start).
+  bool warm_start = false;
   /// A configuration whose first frames take more than this (ms per frame) is not run to the
   /// end: it is far off the real-time front and would only cost benchmark time.
   double max_frame_ms = 100.0;

@@ -149,6 +149,8 @@ int main(int argc, char** argv) {
   accuracy_cmd->add_option("--reference-substeps", accuracy.reference_substeps,
                            "reference: h = frame / (2 x this); its error from h = frame / this")
       ->capture_default_str()->check(CLI::Range(1, 10000));
+  accuracy_cmd->add_flag("--warm-start", accuracy.warm_start,
+                         "local_global, chebyshev, anderson, lbfgs: warm-started steps (label +warm)");
   accuracy_cmd->add_option("--max-frame-ms", accuracy.max_frame_ms,
                            "stop a configuration slower than this per frame")
       ->capture_default_str()->check(CLI::PositiveNumber);
