@@ -195,10 +195,11 @@ MarkerBuild buildMarkers(const MarkerScene& scene, const MarkerStyle& style,
     build.shown.spheres.insert(s.id);
   }
   if (scene.ground.enabled) {
-    constexpr double kThickness = 0.01;  // m; its top face is the ground plane
+    constexpr double kThickness = 0.01;  // m; its top face just below the ground plane
     Marker g = makeMarker(header, kGroundNs, 0, Marker::CUBE);
-    g.pose.position = sanitize.point(Vec3(scene.ground_center.x(), scene.ground_center.y(),
-                                          scene.ground.height - 0.5 * kThickness));
+    g.pose.position =
+        sanitize.point(Vec3(scene.ground_center.x(), scene.ground_center.y(),
+                            scene.ground.height - kGroundDrawGap - 0.5 * kThickness));
     g.scale.x = g.scale.y = sanitize(scene.ground_size);
     g.scale.z = kThickness;
     g.color = rgba(0.75, 0.75, 0.7, 1.0);  // light: lit at a grazing angle it still shows

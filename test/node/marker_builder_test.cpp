@@ -118,7 +118,10 @@ TEST_F(MarkerBuilderTest, PinsSpheresAndGroundHaveStableIdsAndSizes) {
   const auto ground = find(b, kGroundNs);
   ASSERT_EQ(ground.size(), 1u);
   EXPECT_EQ(ground[0]->type, Marker::CUBE);
-  EXPECT_DOUBLE_EQ(ground[0]->pose.position.z + 0.5 * ground[0]->scale.z, -1.0);  // top face
+  // Its top face just under the plane (a cloth lying on it must not flicker through it).
+  EXPECT_DOUBLE_EQ(ground[0]->pose.position.z + 0.5 * ground[0]->scale.z, -1.0 - kGroundDrawGap);
+  EXPECT_GT(kGroundDrawGap, 0.0);
+  EXPECT_LT(kGroundDrawGap, 0.005);
   EXPECT_EQ(ground[0]->scale.x, 4.0);
 
   for (const Marker& m : b.markers.markers) EXPECT_EQ(m.action, Marker::ADD) << m.ns << m.id;

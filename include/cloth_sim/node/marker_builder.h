@@ -25,6 +25,9 @@ inline constexpr const char* kPinsNs = "pins";        ///< one SPHERE per pin, a
 inline constexpr const char* kSpheresNs = "spheres";  ///< one SPHERE per sphere collider
 inline constexpr const char* kGroundNs = "ground";    ///< one thin CUBE, when there is a ground
 inline constexpr const char* kObstaclesNs = "obstacles";  ///< one TRIANGLE_LIST per mesh obstacle
+/// m: the ground's top face is drawn this far below the ground plane, so that a cloth lying on
+/// it (at the plane's height) does not flicker through it in RViz (z-fighting).
+inline constexpr double kGroundDrawGap = 0.002;
 
 /// Everything drawn, in ~frame_id (m). References must outlive the build.
 struct MarkerScene {
