@@ -31,6 +31,15 @@ def free_port():
         return s.getsockname()[1]
 
 
+def machine():
+    """'<CPU model>, <n> cores' as lscpu and the kernel give it."""
+    model = "unknown CPU"
+    for line in subprocess.run(["lscpu"], capture_output=True, text=True).stdout.splitlines():
+        if line.startswith("Model name:"):
+            model = line.split(":", 1)[1].strip()
+    return "%s, %d cores" % (model, os.cpu_count())
+
+
 def measure(scene):
     env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:%d" % free_port())
     os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
@@ -99,8 +108,9 @@ def main():
             "frames over 16.7 ms", "rolled back", "diagnostics", "its message"]
     lines = ["# Real time in the node", "",
              "Each shipped scene at its own configuration, node headless, %g s after %g s of "
-             "warm-up; load before: %s, after: %s (`bench/realtime.py`)." %
-             (DURATION, WARMUP, " ".join(load), " ".join(open("/proc/loadavg").read().split()[:3])),
+             "warm-up, on %s; load before: %s, after: %s (`bench/realtime.py`)." %
+             (DURATION, WARMUP, machine(), " ".join(load),
+              " ".join(open("/proc/loadavg").read().split()[:3])),
              "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     lines += ["| " + " | ".join(r) + " |" for r in rows]
     text = "\n".join(lines) + "\n"
