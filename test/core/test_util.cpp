@@ -101,4 +101,21 @@ SolverSettings convergedSettings(int max_iterations, double tolerance) {
   return s;
 }
 
+Simulation makePeerCloth8(Integrator integrator, int iterations) {
+  GridSpec spec;
+  spec.rows = spec.cols = 8;
+  spec.material.areal_density = 1.0;
+  spec.shear_pattern = ShearPattern::kTriangle;
+  BuiltObject g = buildGrid(spec);
+  g.model.time_step = 1.0 / 60.0;
+  PinSet pins;
+  pins.add(0, g.rest_positions.col(0), 0.0, 64);
+  pins.add(7, g.rest_positions.col(7), 0.0, 64);
+  SimulationOptions options;
+  options.settings.integrator = integrator;
+  options.settings.substeps = 16;
+  options.settings.max_iterations = iterations;
+  return Simulation(g.model, g.rest_positions, pins, Colliders(), options);
+}
+
 }  // namespace cloth_sim::test

@@ -47,6 +47,11 @@ Eigen::SparseMatrix<double> gridSystemMatrix(int rows, int cols, double h);
 /// L of @p factor as a dense matrix (diagonal included).
 Eigen::MatrixXd denseLower(const LowerFactor& factor);
 
+/// The peers' cloth at 8 x 8 (1 m, 1 kg, triangle edges at 1000 N/m, two top corners pinned,
+/// undamped, released flat) with local_global and @p integrator at 16 substeps of
+/// @p iterations per 1/60 s frame (peer_cloth's configuration at 1 iteration).
+Simulation makePeerCloth8(Integrator integrator, int iterations);
+
 /// Settings that run an iterative solver to convergence.
 SolverSettings convergedSettings(int max_iterations = 100000, double tolerance = 1e-13);
 

@@ -5,7 +5,6 @@
 // case must be refused with a message naming the input, or accepted and simulated with no
 // rolled-back frame; throughout, the node keeps publishing, no number it publishes is NaN, and
 // the pins and spheres the test added (and did not remove) are still there.
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -301,15 +300,7 @@ TEST(BadInputRandom, EveryInputRefusedByNameOrSimulatedWithoutRollback) {
 /// Runs cloth_sim_node with @p args for at most @p seconds; its exit status (124: still running
 /// when stopped, i.e. it started) and output.
 std::pair<int, std::string> runNode(const std::string& args, double seconds) {
-  const std::string cmd = "timeout " + show(seconds) + " " + CLOTH_SIM_NODE_EXE + " " + args +
-                          " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return {-1, "popen failed"};
-  std::string out;
-  char buf[512];
-  while (fgets(buf, sizeof buf, pipe) != nullptr) out += buf;
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return runNodeProcess(CLOTH_SIM_NODE_EXE, args, seconds);
 }
 
 TEST(BadInputRandom, StartParametersRefusedByNameOrTheNodeRuns) {

@@ -1,10 +1,8 @@
 // Bad input to a running cloth_sim_node: every refusal says why, topic refusals are logged
 // (throttled), nothing changes and the node keeps publishing. Bad parameters stop the node
 // with a message naming the parameter.
-#include <sys/wait.h>
 
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -204,14 +202,7 @@ TEST(BadInput, EachResetIsLoggedOnce) {
 /// Runs cloth_sim_node with @p args against the test's master; returns its exit status and
 /// output.
 std::pair<int, std::string> runNode(const std::string& args) {
-  const std::string cmd = std::string("timeout 60 ") + CLOTH_SIM_NODE_EXE + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return {-1, "popen failed"};
-  std::string out;
-  char buf[512];
-  while (fgets(buf, sizeof buf, pipe) != nullptr) out += buf;
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return runNodeProcess(CLOTH_SIM_NODE_EXE, args, 60.0);
 }
 
 TEST(BadParameters, TheNodeStopsWithAMessageNamingTheParameter) {

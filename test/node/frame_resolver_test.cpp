@@ -4,31 +4,13 @@
 #include <string>
 
 #include <gtest/gtest.h>
-#include <tf2/LinearMath/Quaternion.h>
 
 #include "cloth_sim/node/frame_resolver.h"
 #include "error_of.h"
+#include "tf_fixture.h"
 
 namespace cloth_sim::node {
 namespace {
-
-geometry_msgs::TransformStamped transform(const std::string& parent, const std::string& child,
-                                          const Vec3& t, double yaw, double stamp) {
-  geometry_msgs::TransformStamped tf;
-  tf.header.frame_id = parent;
-  tf.header.stamp = ros::Time(stamp);
-  tf.child_frame_id = child;
-  tf.transform.translation.x = t.x();
-  tf.transform.translation.y = t.y();
-  tf.transform.translation.z = t.z();
-  tf2::Quaternion q;
-  q.setRPY(0, 0, yaw);
-  tf.transform.rotation.x = q.x();
-  tf.transform.rotation.y = q.y();
-  tf.transform.rotation.z = q.z();
-  tf.transform.rotation.w = q.w();
-  return tf;
-}
 
 geometry_msgs::PointStamped pointIn(const std::string& frame, const Vec3& p, double stamp = 0) {
   geometry_msgs::PointStamped s;

@@ -3,31 +3,18 @@
 #include <string>
 
 #include <gtest/gtest.h>
-#include <tf2/LinearMath/Quaternion.h>
 #include <tf2/buffer_core.h>
 
 #include "cloth_sim/node/grasp_frames.h"
 #include "cloth_sim/node/sim_clock.h"
 #include "error_of.h"
+#include "tf_fixture.h"
 
 namespace cloth_sim::node {
 namespace {
 
 geometry_msgs::TransformStamped gripperAt(const Vec3& t, double stamp, double yaw = 0.0) {
-  geometry_msgs::TransformStamped tf;
-  tf.header.frame_id = "world";
-  tf.header.stamp = ros::Time(stamp);
-  tf.child_frame_id = "gripper";
-  tf.transform.translation.x = t.x();
-  tf.transform.translation.y = t.y();
-  tf.transform.translation.z = t.z();
-  tf2::Quaternion q;
-  q.setRPY(0, 0, yaw);
-  tf.transform.rotation.x = q.x();
-  tf.transform.rotation.y = q.y();
-  tf.transform.rotation.z = q.z();
-  tf.transform.rotation.w = q.w();
-  return tf;
+  return transform("world", "gripper", t, yaw, stamp);
 }
 
 class GraspFramesTest : public ::testing::Test {

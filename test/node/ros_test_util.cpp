@@ -1,6 +1,9 @@
 #include "ros_test_util.h"
 
+#include <sys/wait.h>
+
 #include <cmath>
+#include <cstdio>
 #include <thread>
 
 namespace cloth_sim::test {
@@ -215,6 +218,20 @@ int runRosTests(int argc, char** argv, const char* node_name) {
   spinner.stop();
   ros::shutdown();
   return result;
+}
+
+std::pair<int, std::string> runNodeProcess(const std::string& executable, const std::string& args,
+                                           double seconds) {
+  char limit[32];
+  std::snprintf(limit, sizeof limit, "%g", seconds);
+  const std::string cmd = std::string("timeout ") + limit + " " + executable + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return {-1, "popen failed"};
+  std::string out;
+  char buf[512];
+  while (fgets(buf, sizeof buf, pipe) != nullptr) out += buf;
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
 
 }  // namespace cloth_sim::test

@@ -6,6 +6,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -84,6 +85,11 @@ bool waitForSubscriber(const ros::Publisher& pub, double timeout = 10.0);
 
 /// A point stamped in @p frame.
 geometry_msgs::PointStamped stamped(const std::string& frame, double x, double y, double z);
+
+/// Runs cloth_sim_node at @p executable with command-line @p args for at most @p seconds
+/// (timeout(1)); its exit status (124: still running when stopped) and its output.
+std::pair<int, std::string> runNodeProcess(const std::string& executable, const std::string& args,
+                                           double seconds);
 
 /// ros::init, an AsyncSpinner, RUN_ALL_TESTS: the main of every node rostest.
 int runRosTests(int argc, char** argv, const char* node_name);

@@ -145,20 +145,7 @@ TEST(Bdf2, UndampedClothKeepsMuchMoreEnergyThanImplicitEuler) {
 /// undamped) dropped flat, run @p seconds with local_global at the shipped peer_cloth
 /// configuration (16 substeps of 1 iteration per 1/60 s frame); returns its total energy (J).
 double energyAtScenesConfiguration(Integrator integrator, double seconds) {
-  GridSpec spec;
-  spec.rows = spec.cols = 8;
-  spec.material.areal_density = 1.0;
-  spec.shear_pattern = ShearPattern::kTriangle;
-  BuiltObject g = buildGrid(spec);
-  g.model.time_step = 1.0 / 60.0;
-  PinSet pins;
-  pins.add(0, g.rest_positions.col(0), 0.0, 64);
-  pins.add(7, g.rest_positions.col(7), 0.0, 64);
-  SimulationOptions options;
-  options.settings.integrator = integrator;
-  options.settings.substeps = 16;
-  options.settings.max_iterations = 1;
-  Simulation sim(g.model, g.rest_positions, pins, Colliders(), options);
+  Simulation sim = test::makePeerCloth8(integrator, 1);
   const int frames = static_cast<int>(std::lround(seconds * 60.0));
   for (int f = 0; f < frames; ++f) EXPECT_EQ(sim.step().status, StepStatus::kOk);
   return sim.totalEnergy();

@@ -84,20 +84,7 @@ TEST(ImplicitMidpoint, FreeDampedParticleVelocityDecaysExactlyAsExpMinusGammaT) 
 /// undamped) dropped flat, run @p seconds with local_global at 16 substeps of @p iterations
 /// per 1/60 s frame (bdf2_test.cpp's configuration); returns its total energy (J).
 double energyOfPeerCloth(Integrator integrator, double seconds, int iterations) {
-  GridSpec spec;
-  spec.rows = spec.cols = 8;
-  spec.material.areal_density = 1.0;
-  spec.shear_pattern = ShearPattern::kTriangle;
-  BuiltObject g = buildGrid(spec);
-  g.model.time_step = 1.0 / 60.0;
-  PinSet pins;
-  pins.add(0, g.rest_positions.col(0), 0.0, 64);
-  pins.add(7, g.rest_positions.col(7), 0.0, 64);
-  SimulationOptions options;
-  options.settings.integrator = integrator;
-  options.settings.substeps = 16;
-  options.settings.max_iterations = iterations;
-  Simulation sim(g.model, g.rest_positions, pins, Colliders(), options);
+  Simulation sim = test::makePeerCloth8(integrator, iterations);
   const int frames = static_cast<int>(std::lround(seconds * 60.0));
   for (int f = 0; f < frames; ++f) EXPECT_EQ(sim.step().status, StepStatus::kOk);
   return sim.totalEnergy();
@@ -228,20 +215,7 @@ TEST(ImplicitMidpoint, EnergyGainingStepsAreRedoneAsTwoImplicitEulerHalfSteps) {
 
 TEST(ImplicitMidpoint, SafeguardNeverFiresOnThePeerClothAtItsSubsteps) {
   // The peer cloth (8 x 8, 16 substeps of 1 iteration, undamped): steps lose or keep energy.
-  GridSpec spec;
-  spec.rows = spec.cols = 8;
-  spec.material.areal_density = 1.0;
-  spec.shear_pattern = ShearPattern::kTriangle;
-  BuiltObject g = buildGrid(spec);
-  g.model.time_step = 1.0 / 60.0;
-  PinSet pins;
-  pins.add(0, g.rest_positions.col(0), 0.0, 64);
-  pins.add(7, g.rest_positions.col(7), 0.0, 64);
-  SimulationOptions options;
-  options.settings.integrator = kMidpoint;
-  options.settings.substeps = 16;
-  options.settings.max_iterations = 1;
-  Simulation sim(g.model, g.rest_positions, pins, Colliders(), options);
+  Simulation sim = test::makePeerCloth8(kMidpoint, 1);
   int fallbacks = 0;
   for (int f = 0; f < 120; ++f) fallbacks += sim.step().midpoint_fallbacks;
   std::printf("peer cloth 8 x 8, 2 s at 16 substeps of 1 iteration: %d of 1920 steps redone\n",
