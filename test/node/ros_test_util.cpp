@@ -115,6 +115,25 @@ std::vector<ClothState> NodeProbe::collectStates(double seconds) {
   return collect(mutex_, states_, seconds);
 }
 
+std::vector<ClothState> NodeProbe::collectSimulatedTime(double sim_seconds, double wall_timeout) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    states_.clear();
+  }
+  std::vector<ClothState> out;
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(wall_timeout);
+  while (ros::WallTime::now() < end) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      out.insert(out.end(), states_.begin(), states_.end());
+      states_.clear();
+    }
+    if (!out.empty() && out.back().sim_time - out.front().sim_time >= sim_seconds) break;
+    sleepABit();
+  }
+  return out;
+}
+
 bool NodeProbe::waitForLog(const std::string& text, double timeout) {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
   while (ros::WallTime::now() < end) {

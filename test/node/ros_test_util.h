@@ -44,6 +44,10 @@ class NodeProbe {
   std::vector<visualization_msgs::MarkerArray> collectMarkers(double seconds);
   /// Every state received during the next @p seconds.
   std::vector<ClothState> collectStates(double seconds);
+  /// Every state received from now until the simulation has advanced @p sim_seconds (its own
+  /// clock: on a busy machine the node steps slower than real time, and a physical event takes
+  /// the same simulated time), or until @p wall_timeout s have passed.
+  std::vector<ClothState> collectSimulatedTime(double sim_seconds, double wall_timeout = 60.0);
   /// True once a /rosout message containing @p text arrived (ever), within @p timeout s.
   bool waitForLog(const std::string& text, double timeout);
   /// How many /rosout messages so far contain @p text.
