@@ -55,8 +55,13 @@ bool ClothSimNode::onGrasp(AddGrasp::Request& req, AddGrasp::Response& res) {
     wrench_pubs_[res.id] = nh_.advertise<geometry_msgs::WrenchStamped>(
         "cloth/grasps/" + std::to_string(res.id) + "/wrench", 10);
     res.vertices = vertices;
+    // Its loads do not follow the midpoint step (docs/method.md, "Grasps and pin forces").
+    const bool midpoint = sim_.solverSettings().integrator == Integrator::kImplicitMidpoint;
     return "grasp " + std::to_string(res.id) + " holds " + std::to_string(vertices.size()) +
-           " particles on frame '" + frame + "'";
+           " particles on frame '" + frame + "'" +
+           (midpoint ? "; its wrench is unreliable under integrator implicit_midpoint (use "
+                       "implicit_euler or bdf2 for force feedback)"
+                     : "");
   });
 }
 
