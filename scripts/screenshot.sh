@@ -4,7 +4,8 @@
 # WAIT_S (default 10) is how long the scene runs before the picture; OUT defaults to
 # docs/images/SCENE.png. LAUNCH (default demo.launch) picks the launch file, e.g.
 #   LAUNCH=grasp_demo.launch scripts/screenshot.sh grasp_demo 7
-# Build first (make build). Uses its own ROS master port.
+# Build first (make build). Uses its own ROS master port (ROS_PORT to choose it). The fold
+# picture needs the pin carried over the cloth meanwhile: scripts/fold_pin.py.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
 SCENE="${1:-hanging}"
