@@ -86,18 +86,24 @@ StepReport Simulation::step() {
   const State before = state_;
   const Colliders colliders_before = colliders_;
   const int n = options_.settings.substeps;
-  bool pins_moved = false;
-  for (const auto& [id, target] : frame_targets_) {
+  std::vector<PinPath> paths;  // the pins whose target moved since the last frame
+  for (const auto& [id, from] : frame_targets_) {
     const Pin* pin = pins_.find(id);
-    pins_moved = pins_moved || (pin != nullptr && pin->target != target);
+    if (pin != nullptr && pin->target != from) paths.push_back({id, from, towards(from, pin->target)});
   }
+  const bool pins_moved = !paths.empty();
   PinSet pins_at = pins_moved ? pins_ : PinSet();
   applySphereJumps(+1.0);
   std::vector<std::pair<int, Vec3>> frame_end;  // where each target stands when the frame ends
-  for (const Pin& pin : pins_.pins()) frame_end.emplace_back(pin.id, frameEndTarget(pin));
+  for (const Pin& pin : pins_.pins()) frame_end.emplace_back(pin.id, pin.target);
+  for (const PinPath& path : paths) {
+    for (auto& [id, target] : frame_end) {
+      if (id == path.id) target = path.to;
+    }
+  }
   StepReport report;
   for (int k = 1; k <= n; ++k) {
-    if (pins_moved) interpolatePins(static_cast<double>(k) / n, pins_at);
+    if (pins_moved) interpolatePins(static_cast<double>(k) / n, paths, pins_at);
     // A grasp's frame is asked where it is at the end of each substep, so a moving gripper
     // carries the cloth continuously, not in one jump a frame.
     if (!grasps_.empty()) placeGrasps(state_.time + model_.time_step, pins_moved ? &pins_at : nullptr);
@@ -192,17 +198,23 @@ double kineticEnergy(const Model& model, const State& state) {
   return 0.5 * (state.velocities.colwise().squaredNorm() * model.mass)(0);
 }
 
-/// Kinetic + spring + external potential energy of @p state (J), as Simulation::totalEnergy
-/// but without the hard-pinned particles' kinetic energy: their velocity is prescribed (a pin
-/// teleported by 1 m in one step moves at 1 m / h), not energy the cloth can use.
-double stateEnergy(const Model& model, const PinSet& pins, const State& state, double* mechanical) {
+/// Energies of a state (J) for the midpoint safeguard.
+struct StateEnergy {
+  double mechanical;  ///< kinetic + springs
+  double total;       ///< mechanical + gravity and soft pins
+};
+
+/// The energy of @p state as Simulation::totalEnergy, but without the hard-pinned particles'
+/// kinetic energy: their velocity is prescribed (a pin teleported by 1 m in one step moves at
+/// 1 m / h), not energy the cloth can use.
+StateEnergy stateEnergy(const Model& model, const PinSet& pins, const State& state) {
   double kinetic = kineticEnergy(model, state);
   for (const Pin& pin : pins.pins()) {
     if (pin.isHard())
       kinetic -= 0.5 * model.mass[pin.vertex] * state.velocities.col(pin.vertex).squaredNorm();
   }
-  *mechanical = kinetic + springEnergy(model.springs, state.positions);
-  return *mechanical + externalPotential(model, pins, state.positions);
+  const double mechanical = kinetic + springEnergy(model.springs, state.positions);
+  return {mechanical, mechanical + externalPotential(model, pins, state.positions)};
 }
 
 /// The implicit midpoint safeguard's tolerance: a step may gain this fraction of the kinetic
@@ -227,13 +239,11 @@ SolveResult Simulation::solve(const SolverInput& input, StepReport& report) {
   // tolerance per step is not caught (kept as measured: a running budget caught it, but also
   // fired on the peers' cloth and cost it most of its energy).
   const State before = state_;
-  double mechanical = 0.0;
-  const double energy_before = stateEnergy(input.model, input.pins, state_, &mechanical);
+  const StateEnergy energy_before = stateEnergy(input.model, input.pins, state_);
   SolveResult solved = solver_->step(input, options_.settings, state_);
-  double unused = 0.0;
-  const double allowed = kMidpointGain * mechanical +
+  const double allowed = kMidpointGain * energy_before.mechanical +
                          kMidpointGainFloor * input.model.mass.sum() * input.model.gravity.norm();
-  if (stateEnergy(input.model, input.pins, state_, &unused) - energy_before > allowed) {
+  if (stateEnergy(input.model, input.pins, state_).total - energy_before.total > allowed) {
     // Two implicit Euler steps of h/2: their matrix is the midpoint's, M + (h/2)^2 L (same
     // revision and h_i, so no refactorization), and implicit Euler is L-stable. Contacts are
     // left to the projection after the step, as under midpoint.
@@ -264,13 +274,9 @@ SolveResult Simulation::finishSolve(const SolveResult& solved,
   return solved;
 }
 
-void Simulation::interpolatePins(double s, PinSet& pins_at) const {
-  for (const auto& [id, from] : frame_targets_) {
-    const Pin* pin = pins_.find(id);
-    if (pin != nullptr && pin->target != from) {
-      pins_at.moveTarget(id, from + s * (frameEndTarget(*pin) - from));
-    }
-  }
+void Simulation::interpolatePins(double s, const std::vector<PinPath>& paths,
+                                 PinSet& pins_at) const {
+  for (const PinPath& path : paths) pins_at.moveTarget(path.id, path.from + s * (path.to - path.from));
 }
 
 double Simulation::maxPinMove() const {
@@ -280,14 +286,10 @@ double Simulation::maxPinMove() const {
   return options_.settings.substeps * shortest_rest_length_ * options_.divergence_strain / 10.0;
 }
 
-Vec3 Simulation::frameEndTarget(const Pin& pin) const {
-  for (const auto& [id, from] : frame_targets_) {
-    if (id != pin.id) continue;
-    const Vec3 way = pin.target - from;
-    const double distance = way.norm(), limit = maxPinMove();
-    return distance <= limit ? pin.target : Vec3(from + way * (limit / distance));
-  }
-  return pin.target;
+Vec3 Simulation::towards(const Vec3& from, const Vec3& target) const {
+  const Vec3 way = target - from;
+  const double distance = way.norm(), limit = maxPinMove();
+  return distance <= limit ? target : Vec3(from + way * (limit / distance));
 }
 
 void Simulation::applySphereJumps(double sign) {
@@ -487,8 +489,7 @@ int Simulation::nearestParticle(const Vec3& point) const {
 }
 
 double Simulation::totalEnergy() const {
-  const double kinetic = 0.5 * (state_.velocities.colwise().squaredNorm() * model_.mass)(0);
-  return kinetic + springEnergy(model_.springs, state_.positions) +
+  return kineticEnergy(model_, state_) + springEnergy(model_.springs, state_.positions) +
          externalPotential(model_, pins_, state_.positions);
 }
 

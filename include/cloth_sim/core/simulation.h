@@ -199,15 +199,20 @@ class Simulation {
   /// Adds the solve's time (since @p t_solve), iterations and convergence to @p report.
   SolveResult finishSolve(const SolveResult& solved, std::chrono::steady_clock::time_point t_solve,
                           StepReport& report);
-  /// @p pins_at with the targets of the pins moved since the last frame at fraction @p s of
-  /// the way from their last-frame targets.
-  void interpolatePins(double s, PinSet& pins_at) const;
+  /// A pin's target this frame: from where it stood at the end of the last frame to where it
+  /// stands at the end of this one (at most maxPinMove() from there).
+  struct PinPath {
+    int id;
+    Vec3 from, to;
+  };
+  /// @p pins_at with the targets of @p paths at fraction @p s of their way.
+  void interpolatePins(double s, const std::vector<PinPath>& paths, PinSet& pins_at) const;
   /// Kinematic spheres moved since the last frame: their pending jumps become velocities for
   /// the frame (sign +1) or are taken back out of them (-1).
   void applySphereJumps(double sign);
-  /// Where @p pin's target stands at the end of the coming frame: its target, or maxPinMove()
-  /// of the way there from where it stood at the end of the last frame.
-  Vec3 frameEndTarget(const Pin& pin) const;
+  /// Where a target set at @p target stands at the end of the coming frame, having stood at
+  /// @p from at the end of the last one: @p target, or maxPinMove() of the way there.
+  Vec3 towards(const Vec3& from, const Vec3& target) const;
   /// Every pin's target starts at its particle's current position (start, reset): a target away
   /// from it is then approached at the pins' speed limit instead of in one jerk.
   void startPinsAtParticles();
