@@ -58,15 +58,24 @@ Eigen::AlignedBox3d MeshObstacle::triangleBox(int t) const {
   return box;
 }
 
+template <typename Visit>
+void MeshObstacle::forTrianglesNear(const Eigen::AlignedBox3d& box, Visit&& visit,
+                                    int* candidates) const {
+  if (!bounds_.intersects(box)) return;
+  grid_.query(box, [&](int t) {
+    if (candidates != nullptr) ++*candidates;
+    if (boxes_[t].intersects(box)) visit(t);  // else a large triangle's cell, not the triangle
+  });
+}
+
 bool MeshObstacle::clear(const Vec3& a, const Vec3& b) const {
   Eigen::AlignedBox3d box;
   box.extend(a).extend(b);
   box.min().array() -= thickness_;
   box.max().array() += thickness_;
-  if (!bounds_.intersects(box)) return true;
   bool hit = false;
-  grid_.query(box, [&](int t) {
-    if (hit || !boxes_[t].intersects(box)) return;
+  forTrianglesNear(box, [&](int t) {
+    if (hit) return;
     const Vec3 p = mesh_.vertices.col(mesh_.triangles(0, t));
     const Vec3 q = mesh_.vertices.col(mesh_.triangles(1, t));
     const Vec3 r = mesh_.vertices.col(mesh_.triangles(2, t));
@@ -86,15 +95,12 @@ bool MeshObstacle::collide(const Vec3& start, Vec3& end, const std::optional<Vec
     box.extend(start).extend(end);
     box.min().array() -= thickness_;
     box.max().array() += thickness_;
-    if (!bounds_.intersects(box)) break;
     double first_crossing = std::numeric_limits<double>::infinity();
     int crossed = -1;
     int nearest = -1;
     double nearest_gap = 0.0;  // thickness minus distance, > 0 when too close
     Vec3 nearest_point = Vec3::Zero();
-    grid_.query(box, [&](int t) {
-      ++last_candidates_;
-      if (!boxes_[t].intersects(box)) return;  // a large triangle's cell, not the triangle
+    forTrianglesNear(box, [&](int t) {
       const Vec3 a = mesh_.vertices.col(mesh_.triangles(0, t));
       const Vec3 b = mesh_.vertices.col(mesh_.triangles(1, t));
       const Vec3 c = mesh_.vertices.col(mesh_.triangles(2, t));
@@ -110,7 +116,7 @@ bool MeshObstacle::collide(const Vec3& start, Vec3& end, const std::optional<Vec
         nearest = t;
         nearest_point = q;
       }
-    });
+    }, &last_candidates_);
     Vec3 normal;
     double correction = 0.0;
     if (crossed >= 0) {
@@ -148,10 +154,8 @@ bool MeshObstacle::nearest(const Vec3& p, double reach, Vec3& point, Vec3& norma
   Eigen::AlignedBox3d box(p);
   box.min().array() -= reach;
   box.max().array() += reach;
-  if (!bounds_.intersects(box)) return false;
   double best = reach;
-  grid_.query(box, [&](int t) {
-    if (!boxes_[t].intersects(box)) return;
+  forTrianglesNear(box, [&](int t) {
     const Vec3 q = closestPointOnTriangle(p, mesh_.vertices.col(mesh_.triangles(0, t)),
                                           mesh_.vertices.col(mesh_.triangles(1, t)),
                                           mesh_.vertices.col(mesh_.triangles(2, t)));

@@ -46,6 +46,12 @@ class MeshObstacle {
 
  private:
   Eigen::AlignedBox3d triangleBox(int t) const;
+  /// Calls @p visit(t) for each triangle t whose box meets @p box: none when @p box misses the
+  /// mesh's bounds, else the hash grid's candidates (added to @p candidates when given) that
+  /// pass the box test.
+  template <typename Visit>
+  void forTrianglesNear(const Eigen::AlignedBox3d& box, Visit&& visit,
+                        int* candidates = nullptr) const;
   /// True when the segment @p a -> @p b crosses no triangle and @p b is at least thickness
   /// away from every triangle.
   bool clear(const Vec3& a, const Vec3& b) const;
