@@ -44,8 +44,8 @@ add_library(cloth_sim_core
   src/core/solvers/baselines/explicit_solvers.cpp
   src/core/solvers/baselines/local_global_3n_solver.cpp
   src/core/solvers/baselines/xpbd_solver.cpp
-  src/core/simulation.cpp
-  src/core/frame_budget.cpp
+  src/core/simulation/simulation.cpp
+  src/core/simulation/frame_budget.cpp
   src/core/io/scene_reader.cpp
   src/core/io/scene_builder.cpp
   src/core/io/scene_overrides.cpp
@@ -86,7 +86,9 @@ if(CATKIN_ENABLE_TESTING)
     solvers/local_global/local_global_solver_test
     solvers/baselines/explicit_solvers_test solvers/baselines/local_global_3n_solver_test
     solvers/baselines/xpbd_solver_test
-    simulation_test substeps_test frame_budget_test grasp_test io/scene_test io/bad_scene_random_test
+    simulation/simulation_test simulation/substeps_test simulation/frame_budget_test
+    simulation/grasp_test
+    io/scene_test io/bad_scene_random_test
     settings/settings_table_test)
   foreach(path ${CORE_TESTS})
     get_filename_component(t ${path} NAME)

@@ -8,7 +8,7 @@
 
 #include "cloth_sim/core/linalg/cholmod_factor.h"
 #include "cloth_sim/core/model/grid_builder.h"
-#include "cloth_sim/core/simulation.h"
+#include "cloth_sim/core/simulation/simulation.h"
 #include "cloth_sim/core/solvers/solver.h"
 
 namespace cloth_sim::test {

@@ -1,7 +1,7 @@
 // The fold scene's script for the runner: the scene's first pin carried over the cloth and let go.
 #pragma once
 
-#include "cloth_sim/core/simulation.h"
+#include "cloth_sim/core/simulation/simulation.h"
 
 namespace cloth_sim::tools {
 

@@ -5,7 +5,7 @@
 #include <ostream>
 #include <string>
 
-#include "cloth_sim/core/simulation.h"
+#include "cloth_sim/core/simulation/simulation.h"
 
 namespace cloth_sim::tools {
 

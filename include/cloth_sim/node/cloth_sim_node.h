@@ -30,9 +30,9 @@
 #include <cloth_sim/SpawnSphere.h>
 #include <cloth_sim/Step.h>
 
-#include "cloth_sim/core/frame_budget.h"
+#include "cloth_sim/core/simulation/frame_budget.h"
 #include "cloth_sim/core/io/scene_limits.h"
-#include "cloth_sim/core/simulation.h"
+#include "cloth_sim/core/simulation/simulation.h"
 #include "cloth_sim/node/frame_resolver.h"
 #include "cloth_sim/node/grasp_frames.h"
 #include "cloth_sim/node/log_throttle.h"

@@ -18,7 +18,7 @@
 #include "cloth_sim/core/collision/colliders.h"
 #include "cloth_sim/core/model/pins.h"
 #include "cloth_sim/core/settings/settings_table.h"
-#include "cloth_sim/core/simulation.h"
+#include "cloth_sim/core/simulation/simulation.h"
 
 namespace cloth_sim::node {
 

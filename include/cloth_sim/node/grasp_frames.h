@@ -8,7 +8,7 @@
 
 #include <tf2/buffer_core.h>
 
-#include "cloth_sim/core/grasp.h"
+#include "cloth_sim/core/simulation/grasp.h"
 
 namespace cloth_sim::node {
 

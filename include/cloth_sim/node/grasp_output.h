@@ -11,7 +11,7 @@
 
 #include <cloth_sim/GraspInfo.h>
 
-#include "cloth_sim/core/grasp.h"
+#include "cloth_sim/core/simulation/grasp.h"
 #include "cloth_sim/node/grasp_frames.h"
 
 namespace cloth_sim::node {

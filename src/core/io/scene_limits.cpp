@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "cloth_sim/core/settings/settings_table.h"
-#include "cloth_sim/core/simulation.h"
+#include "cloth_sim/core/simulation/simulation.h"
 
 namespace cloth_sim {
 namespace {

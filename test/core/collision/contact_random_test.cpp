@@ -40,7 +40,7 @@
 #include "cloth_sim/core/collision/mesh_obstacle.h"
 #include "cloth_sim/core/model/grid_builder.h"
 #include "cloth_sim/core/model/triangle_mesh.h"
-#include "cloth_sim/core/simulation.h"
+#include "cloth_sim/core/simulation/simulation.h"
 
 namespace cloth_sim {
 namespace {

@@ -5,7 +5,7 @@
 
 #include "cloth_sim/core/solvers/implicit_euler_problem.h"
 #include "cloth_sim/core/model/mesh_builder.h"
-#include "cloth_sim/core/simulation.h"
+#include "cloth_sim/core/simulation/simulation.h"
 #include "test_util.h"
 
 namespace cloth_sim {

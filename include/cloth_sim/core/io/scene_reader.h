@@ -16,7 +16,7 @@
 #include "cloth_sim/core/collision/colliders.h"
 #include "cloth_sim/core/model/grid_builder.h"
 #include "cloth_sim/core/model/mesh_builder.h"
-#include "cloth_sim/core/simulation.h"
+#include "cloth_sim/core/simulation/simulation.h"
 
 namespace cloth_sim {
 

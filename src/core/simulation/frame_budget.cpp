@@ -1,4 +1,4 @@
-#include "cloth_sim/core/frame_budget.h"
+#include "cloth_sim/core/simulation/frame_budget.h"
 
 #include <algorithm>
 #include <cmath>

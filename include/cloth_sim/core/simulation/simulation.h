@@ -12,9 +12,9 @@
 #include "cloth_sim/core/collision/contact_forces.h"
 #include "cloth_sim/core/collision/self_contact.h"
 #include "cloth_sim/core/collision/triangle_intersection.h"
-#include "cloth_sim/core/grasp.h"
 #include "cloth_sim/core/model/model.h"
 #include "cloth_sim/core/model/pins.h"
+#include "cloth_sim/core/simulation/grasp.h"
 #include "cloth_sim/core/solvers/pin_reactions.h"
 #include "cloth_sim/core/solvers/solver.h"
 

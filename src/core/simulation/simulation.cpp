@@ -1,4 +1,4 @@
-#include "cloth_sim/core/simulation.h"
+#include "cloth_sim/core/simulation/simulation.h"
 
 #include <algorithm>
 #include <chrono>

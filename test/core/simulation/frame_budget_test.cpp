@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cloth_sim/core/frame_budget.h"
+#include "cloth_sim/core/simulation/frame_budget.h"
 
 namespace cloth_sim {
 namespace {
