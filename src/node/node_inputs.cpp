@@ -38,7 +38,7 @@ bool ClothSimNode::onSpawnSphere(SpawnSphere::Request& req, SpawnSphere::Respons
     const Vec3 center = frames_.point(req.center, "center");
     const Vec3 velocity = frames_.vector(req.center.header, req.velocity, "velocity");
     const SphereCollider sphere = sphereFromRequest(req, center, velocity);
-    limits_.checkSphere("", sphere, sim_.model().time_step);  // what the cloth can follow
+    limits_.checkSphere("", sphere, sim_.substepTime());  // what the cloth can follow
     res.id = sim_.addSphere(sphere);
     return "sphere " + std::to_string(res.id) + " at " + str(center) + " m, radius " +
            std::to_string(sphere.radius) + " m, velocity " + str(velocity) + " m/s in '" +

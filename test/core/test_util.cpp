@@ -12,7 +12,7 @@ HangingSpring makeHangingSpring(double mass, double stiffness, double rest, doub
   HangingSpring out;
   out.model.mass = Eigen::Vector2d(mass, mass);
   out.model.springs.add(0, 1, rest, stiffness, SpringFamily::kStructural);
-  out.model.time_step = h;
+  out.h = h;
   out.rest.resize(3, 2);
   out.rest.col(0) = Vec3::Zero();
   out.rest.col(1) = Vec3(0.0, 0.0, -rest);
@@ -38,7 +38,7 @@ double staticStretchError(Solver& solver, const SolverSettings& settings) {
   HangingSpring sys = makeHangingSpring(m, k, rest, 1.0 / 60.0);
   sys.model.damping = 5.0;
   State s = State::atRest(sys.rest);
-  for (int step = 0; step < 1200; ++step) solver.step({sys.model, sys.pins, 1}, settings, s);
+  for (int step = 0; step < 1200; ++step) solver.step({sys.model, sys.pins, sys.h, 1}, settings, s);
   const double stretch = (s.positions.col(1) - s.positions.col(0)).norm() - rest;
   return std::abs(stretch - m * 9.81 / k) / (m * 9.81 / k);
 }
@@ -51,7 +51,7 @@ double softPinSagError(Solver& solver, const SolverSettings& settings) {
   PinSet pins;
   pins.add(0, Vec3(0, 0, 1), k_pin, 1);
   State s = State::atRest(Points(Vec3(0, 0, 1)));
-  for (int step = 0; step < 1200; ++step) solver.step({model, pins, 1}, settings, s);
+  for (int step = 0; step < 1200; ++step) solver.step({model, pins, 1.0 / 60.0, 1}, settings, s);
   return std::abs((1.0 - s.positions(2, 0)) - m * 9.81 / k_pin) / (m * 9.81 / k_pin);
 }
 
@@ -62,7 +62,7 @@ double momentumDrift(Solver& solver, const SolverSettings& settings, int steps) 
   State s = State::atRest(g.rest_positions);
   s.velocities = Points::Random(3, 25);
   const Vec3 p0 = s.velocities * g.model.mass;
-  for (int step = 0; step < steps; ++step) solver.step({g.model, pins, 1}, settings, s);
+  for (int step = 0; step < steps; ++step) solver.step({g.model, pins, 1.0 / 60.0, 1}, settings, s);
   return (s.velocities * g.model.mass - p0).norm() / s.velocities.colwise().norm().dot(g.model.mass);
 }
 
@@ -107,11 +107,11 @@ Simulation makePeerCloth8(Integrator integrator, int iterations) {
   spec.material.areal_density = 1.0;
   spec.shear_pattern = ShearPattern::kTriangle;
   BuiltObject g = buildGrid(spec);
-  g.model.time_step = 1.0 / 60.0;
   PinSet pins;
   pins.add(0, g.rest_positions.col(0), 0.0, 64);
   pins.add(7, g.rest_positions.col(7), 0.0, 64);
   SimulationOptions options;
+  options.frame_time = 1.0 / 60.0;
   options.settings.integrator = integrator;
   options.settings.substeps = 16;
   options.settings.max_iterations = iterations;

@@ -17,11 +17,12 @@ namespace cloth_sim::test {
 std::string sourcePath(const std::string& relative);
 
 /// Two particles joined by one spring along -z, the top one hard-pinned:
-/// particle 0 at (0,0,0) pinned, particle 1 at (0,0,-rest) with mass @p mass.
+/// particle 0 at (0,0,0) pinned, particle 1 at (0,0,-rest) with mass @p mass; stepped by h.
 struct HangingSpring {
   Model model;
   Points rest;
   PinSet pins;
+  double h = 0.0;  ///< s, the step to solve with (SolverInput::h)
 };
 HangingSpring makeHangingSpring(double mass, double stiffness, double rest, double h);
 
@@ -36,7 +37,8 @@ double staticStretchError(Solver& solver, const SolverSettings& settings);
 /// @p solver and returns the relative error of its sag against m g / k_pin.
 double softPinSagError(Solver& solver, const SolverSettings& settings);
 
-/// Steps a free 5 x 5 cloth (no gravity, pins or damping, random velocities) @p steps times and
+/// Steps a free 5 x 5 cloth (no gravity, pins or damping, random velocities) @p steps times
+/// (h = 1/60 s) and
 /// returns |P_end - P_0| / sum_i m_i |v_i|: the relative drift of the total linear momentum.
 double momentumDrift(Solver& solver, const SolverSettings& settings, int steps);
 

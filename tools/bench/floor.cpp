@@ -67,7 +67,8 @@ void runFloor(const FloorOptions& o) {
   Simulation probe_sim = makeSimulation(paper.config);
   LocalGlobalSolver probe;
   State state = probe_sim.state();
-  probe.step({probe_sim.model(), probe_sim.pins(), 1}, SolverSettings{}, state);
+  probe.step({probe_sim.model(), probe_sim.pins(), probe_sim.substepTime(), 1}, SolverSettings{},
+             state);
   const SupernodalFactor& factor = probe.system().supernodal();
   const std::size_t springs = probe.springTable().size();
   const int nodes = probe_sim.model().particleCount();

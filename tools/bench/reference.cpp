@@ -25,11 +25,11 @@ struct Hash {
   void add(const Points& x) { add(x.data(), sizeof(double) * x.size()); }
 };
 
-std::uint64_t keyOf(const Model& model, const PinSet& pins, const State& state) {
+std::uint64_t keyOf(const Model& model, const PinSet& pins, const State& state, double step) {
   Hash h;
   h.add(state.positions);
   h.add(state.velocities);
-  h.add(model.time_step);
+  h.add(step);
   h.add(model.damping);
   h.add(model.gravity.data(), sizeof(double) * 3);
   h.add(model.mass.data(), sizeof(double) * model.mass.size());
@@ -83,9 +83,9 @@ void writeCache(const std::string& path, const Reference& ref) {
 
 }  // namespace
 
-Reference computeReference(const Model& model, const PinSet& pins, const State& state,
+Reference computeReference(const Model& model, const PinSet& pins, const State& state, double h,
                            const std::string& cache_dir, int warm_iterations) {
-  const ImplicitStepProblem problem = ImplicitStepProblem::build(model, pins, state);
+  const ImplicitStepProblem problem = ImplicitStepProblem::build(model, pins, state, h);
   Reference ref;
   ref.start = problem.inertial;
   ref.g_start = problem.objective(ref.start);
@@ -94,12 +94,12 @@ Reference computeReference(const Model& model, const PinSet& pins, const State& 
   if (!cache_dir.empty()) {
     std::filesystem::create_directories(cache_dir);
     std::ostringstream name;
-    name << cache_dir << "/ref_" << std::hex << keyOf(model, pins, state) << ".bin";
+    name << cache_dir << "/ref_" << std::hex << keyOf(model, pins, state, h) << ".bin";
     path = name.str();
   }
   if (path.empty() || !readCache(path, ref)) {
     const double t0 = now();
-    const SolverInput input{model, pins, 1};
+    const SolverInput input{model, pins, h, 1};
     SolverSettings settings;
     settings.max_iterations = warm_iterations;
     ChebyshevSolver warm;

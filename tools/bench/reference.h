@@ -32,7 +32,7 @@ struct Reference {
 /// it converges in a few, once the exact Hessian kicks in). Newton then runs to its stopping
 /// test (at most 300 iterations). Results are cached in @p cache_dir (created if needed; empty
 /// = no cache) under a hash of everything the step depends on.
-Reference computeReference(const Model& model, const PinSet& pins, const State& state,
+Reference computeReference(const Model& model, const PinSet& pins, const State& state, double h,
                            const std::string& cache_dir, int warm_iterations = 2000);
 
 }  // namespace cloth_sim::bench

@@ -67,7 +67,7 @@ struct TimedRun {
 
 TimedRun timeRun(const SceneConfig& config, const SpeedOptions& o) {
   Simulation sim = makeSimulation(config);
-  const int steps = std::max(2, static_cast<int>(o.duration / sim.model().time_step + 0.5));
+  const int steps = std::max(2, static_cast<int>(o.duration / sim.substepTime() + 0.5));
   TimedRun run;
   run.energy_max = sim.totalEnergy();
   const double start = now();
@@ -97,7 +97,7 @@ struct Sample {
 
 /// Error of one step from each sample.
 void measureErrors(const Config& c, int iterations, const Model& model, const PinSet& pins,
-                   const std::vector<Sample>& samples,
+                   double h, const std::vector<Sample>& samples,
                    std::vector<double>& e_g, std::vector<double>& e_x) {
   std::unique_ptr<Solver> solver = makeSolver(c.solver);
   SolverSettings settings;
@@ -105,7 +105,7 @@ void measureErrors(const Config& c, int iterations, const Model& model, const Pi
   settings.linear_solver = c.linear;
   settings.warm_start = c.warm;
   settings = withParam(settings, c);
-  const SolverInput input{model, pins, 1};
+  const SolverInput input{model, pins, h, 1};
   for (const Sample& s : samples) {
     // The step before the sample first, as in a run: it factors and, with warm start, leaves
     // the previous correction. Then the measured step, from the common state.
@@ -113,7 +113,7 @@ void measureErrors(const Config& c, int iterations, const Model& model, const Pi
     solver->step(input, settings, before);
     State next = s.state;
     solver->step(input, settings, next);
-    const ImplicitStepProblem problem = ImplicitStepProblem::build(model, pins, s.state);
+    const ImplicitStepProblem problem = ImplicitStepProblem::build(model, pins, s.state, h);
     e_g.push_back(s.ref.objectiveError(problem.objective(next.positions)));
     e_x.push_back(s.ref.positionError(next.positions));
   }
@@ -122,15 +122,15 @@ void measureErrors(const Config& c, int iterations, const Model& model, const Pi
 /// Newton's errors after each iteration count: one run per sample, continued from the previous
 /// count's iterate (minimize is restarted, so the exact-Hessian switch is re-armed).
 std::map<int, std::pair<std::vector<double>, std::vector<double>>> newtonErrors(
-    const std::vector<int>& counts, const Model& model, const PinSet& pins,
+    const std::vector<int>& counts, const Model& model, const PinSet& pins, double h,
     const std::vector<Sample>& samples) {
   std::map<int, std::pair<std::vector<double>, std::vector<double>>> out;
   std::vector<int> sorted = counts;
   std::sort(sorted.begin(), sorted.end());
   NewtonSolver newton;
-  const SolverInput input{model, pins, 1};
+  const SolverInput input{model, pins, h, 1};
   for (const Sample& s : samples) {
-    const ImplicitStepProblem problem = ImplicitStepProblem::build(model, pins, s.state);
+    const ImplicitStepProblem problem = ImplicitStepProblem::build(model, pins, s.state, h);
     Points x = problem.inertial;
     int done = 0;
     for (int k : sorted) {
@@ -148,7 +148,7 @@ std::map<int, std::pair<std::vector<double>, std::vector<double>>> newtonErrors(
 /// Per-iteration errors of local/global, chebyshev, anderson or lbfgs, up to trace_iterations or both
 /// < 1e-4.
 void traceErrors(const std::string& case_name, const Config& c, const Model& model,
-                 const PinSet& pins, const std::vector<Sample>& samples,
+                 const PinSet& pins, double h, const std::vector<Sample>& samples,
                  int cap, std::ofstream& out) {
   const std::unique_ptr<Solver> owned = makeSolver(c.solver);
   auto* solver = dynamic_cast<LocalGlobalFamily*>(owned.get());
@@ -157,7 +157,7 @@ void traceErrors(const std::string& case_name, const Config& c, const Model& mod
   settings.linear_solver = c.linear;
   settings.warm_start = c.warm;
   settings = withParam(settings, c);
-  const SolverInput input{model, pins, 1};
+  const SolverInput input{model, pins, h, 1};
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const Sample& s = samples[i];
     solver->setIterateObserver({});
@@ -165,7 +165,7 @@ void traceErrors(const std::string& case_name, const Config& c, const Model& mod
     State before = s.previous;
     solver->step(input, settings, before);
     settings.max_iterations = cap;
-    const ImplicitStepProblem problem = ImplicitStepProblem::build(model, pins, s.state);
+    const ImplicitStepProblem problem = ImplicitStepProblem::build(model, pins, s.state, h);
     int next_logged = 1;
     solver->setIterateObserver([&](int k, const Points& x) {
       const double eg = s.ref.objectiveError(problem.objective(x));
@@ -182,11 +182,11 @@ void traceErrors(const std::string& case_name, const Config& c, const Model& mod
   }
 }
 
-void writeRow(std::ofstream& out, const BenchCase& bc, const Model& model, const Config& c,
-              int iterations, const TimedRun& run, const std::vector<double>& e_g,
+void writeRow(std::ofstream& out, const BenchCase& bc, const Model& model, double h,
+              const Config& c, int iterations, const TimedRun& run, const std::vector<double>& e_g,
               const std::vector<double>& e_x, bool refs_converged) {
   out << bc.name << ',' << bc.scene << ',' << bc.grid << ',' << (bc.paper ? "paper" : "scene")
-      << ',' << model.particleCount() << ',' << model.springs.size() << ',' << model.time_step
+      << ',' << model.particleCount() << ',' << model.springs.size() << ',' << h
       << ',' << c.label << ',' << iterations << ',' << run.steps << ',' << median(run.wall_ms)
       << ',' << quantile(run.wall_ms, 0.1) << ',' << quantile(run.wall_ms, 0.9) << ','
       << median(run.solve_ms) << ',' << run.setup_ms << ',' << median(e_g) << ',' << maxOf(e_g)
@@ -227,8 +227,9 @@ void runSpeed(const SpeedOptions& o) {
     // Common start states: the scene's default solver, sampled along its trajectory.
     Simulation sim = makeSimulation(withSolver(bc.config, "local_global", 10, LinearSolver::kFused));
     const Model model = sim.model();
+    const double h = sim.substepTime();
     const PinSet pins = sim.pins();
-    const int steps = std::max(1, static_cast<int>(o.duration / model.time_step + 0.5));
+    const int steps = std::max(1, static_cast<int>(o.duration / h + 0.5));
     std::vector<Sample> samples;
     for (int k = 1; k <= steps; ++k) {
       const State previous = sim.state();
@@ -241,7 +242,7 @@ void runSpeed(const SpeedOptions& o) {
     bool all_converged = true;
     for (std::size_t i = 0; i < samples.size(); ++i) {
       Sample& s = samples[i];
-      s.ref = computeReference(model, pins, s.state, o.cache_dir);
+      s.ref = computeReference(model, pins, s.state, h, o.cache_dir);
       all_converged = all_converged && s.ref.converged;
       refs << bc.name << ',' << i << ',' << s.step << ',' << s.state.time << ','
            << (s.ref.converged ? 1 : 0) << ',' << s.ref.newton_iterations << ','
@@ -257,7 +258,7 @@ void runSpeed(const SpeedOptions& o) {
       const auto& factored = static_cast<const LocalGlobalSolver&>(sim.solver());
       cases << bc.name << ',' << model.particleCount() << ',' << model.springs.size() << ','
             << factored.system().size() << ',' << factored.system().factorNonZeros() << ','
-            << factored.system().supernodal().solveBytes() << ',' << model.time_step << '\n';
+            << factored.system().supernodal().solveBytes() << ',' << h << '\n';
       cases.flush();
     }
 
@@ -265,8 +266,8 @@ void runSpeed(const SpeedOptions& o) {
       const Config c = configOf(label);
       const std::vector<int> counts = c.iterative ? o.iterations : std::vector<int>{1};
       const bool is_newton = c.solver == "newton";
-      const auto newton = is_newton ? newtonErrors(counts, model, pins, samples)
-                                    : decltype(newtonErrors(counts, model, pins, samples)){};
+      const auto newton = is_newton ? newtonErrors(counts, model, pins, h, samples)
+                                    : decltype(newtonErrors(counts, model, pins, h, samples)){};
       for (int iterations : counts) {
         const double t0 = now();
         SceneConfig timed = withSolver(bc.config, c.solver, iterations, c.linear, c.warm);
@@ -274,13 +275,13 @@ void runSpeed(const SpeedOptions& o) {
         const TimedRun run = timeRun(timed, o);
         std::vector<double> e_g = is_newton ? newton.at(iterations).first : std::vector<double>();
         std::vector<double> e_x = is_newton ? newton.at(iterations).second : std::vector<double>();
-        if (!is_newton) measureErrors(c, iterations, model, pins, samples, e_g, e_x);
-        writeRow(speed, bc, model, c, iterations, run, e_g, e_x, all_converged);
+        if (!is_newton) measureErrors(c, iterations, model, pins, h, samples, e_g, e_x);
+        writeRow(speed, bc, model, h, c, iterations, run, e_g, e_x, all_converged);
         std::fprintf(stderr, "[bench] %-10s %-22s %3d it: %8.3f ms/step, err_g %.2e err_x %.2e "
                      "(%.1f s)\n", bc.name.c_str(), label.c_str(), iterations, median(run.wall_ms),
                      median(e_g), median(e_x), now() - t0);
       }
-      traceErrors(bc.name, c, model, pins, samples, o.trace_iterations, traces);
+      traceErrors(bc.name, c, model, pins, h, samples, o.trace_iterations, traces);
       traces.flush();
     }
   }

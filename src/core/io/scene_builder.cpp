@@ -103,7 +103,7 @@ void checkLimits(const SceneConfig& scene, const Simulation& sim) {
   }
   for (std::size_t k = 0; k < scene.spheres.size(); ++k) {
     try {
-      limits.checkSphere("", scene.spheres[k], sim.model().time_step);
+      limits.checkSphere("", scene.spheres[k], sim.substepTime());
     } catch (const std::invalid_argument& e) {
       throw SceneError(scene.source, "colliders.spheres[" + std::to_string(k) + "]", e.what());
     }
@@ -115,7 +115,6 @@ void checkLimits(const SceneConfig& scene, const Simulation& sim) {
 BuiltObject buildCloth(const SceneConfig& scene) {
   BuiltObject object = scene.cloth_kind == SceneConfig::ClothKind::kGrid ? buildGrid(scene.grid)
                                                                          : buildMeshObject(scene.mesh);
-  object.model.time_step = scene.time_step;
   object.model.gravity = scene.gravity;
   object.model.damping = scene.damping;
   return object;
@@ -165,8 +164,10 @@ Simulation makeSimulation(const SceneConfig& scene) {
   for (const SphereCollider& s : scene.spheres) colliders.addSphere(s);
   for (const MeshColliderSpec& m : scene.meshes) colliders.addMesh(m.obstacle);
   colliders.setGround(scene.ground);
+  SimulationOptions options = scene.options;
+  options.frame_time = scene.time_step;
   Simulation sim(std::move(object.model), object.rest_positions, std::move(pins),
-                 std::move(colliders), scene.options);
+                 std::move(colliders), std::move(options));
   checkLimits(scene, sim);
   return sim;
 }

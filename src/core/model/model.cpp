@@ -83,9 +83,6 @@ void Model::validate() const {
   if (!std::isfinite(damping) || damping < 0.0) {
     fail("damping = " + std::to_string(damping) + " 1/s must be finite and >= 0");
   }
-  if (!std::isfinite(time_step) || time_step <= 0.0) {
-    fail("time_step = " + std::to_string(time_step) + " s must be finite and > 0");
-  }
 }
 
 State State::atRest(const Points& rest_positions) {

@@ -25,6 +25,10 @@ const char* stepStatusName(StepStatus status) {
 }
 
 void SimulationOptions::validate() const {
+  if (!std::isfinite(frame_time) || frame_time <= 0.0) {
+    throw std::invalid_argument("frame_time (the scene's time_step) = " +
+                                std::to_string(frame_time) + " s must be finite and > 0");
+  }
   settings.validate();
   self_contact.validate();
   makeSolver(solver)->requireSettings(settings);  // makeSolver lists the names
@@ -51,8 +55,6 @@ Simulation::Simulation(Model model, const Points& rest_positions, PinSet pins, C
       throw std::invalid_argument("pin " + std::to_string(p.id) + ": vertex out of range");
     }
   }
-  frame_time_ = model_.time_step;
-  model_.time_step = frame_time_ / options_.settings.substeps;
   state_ = State::atRest(rest_positions);
   initial_state_ = state_;
   initial_pins_ = pins_;
@@ -106,7 +108,7 @@ StepReport Simulation::step() {
     if (pins_moved) interpolatePins(static_cast<double>(k) / n, paths, pins_at);
     // A grasp's frame is asked where it is at the end of each substep, so a moving gripper
     // carries the cloth continuously, not in one jump a frame.
-    if (!grasps_.empty()) placeGrasps(state_.time + model_.time_step, pins_moved ? &pins_at : nullptr);
+    if (!grasps_.empty()) placeGrasps(state_.time + substepTime(), pins_moved ? &pins_at : nullptr);
     substep(pins_moved ? pins_at : pins_, report);
   }
   report.max_strain = maxStrain(model_.springs, state_.positions);
@@ -152,19 +154,21 @@ StepReport Simulation::step() {
 }
 
 void Simulation::substep(const PinSet& pins, StepReport& report) {
-  const double h = model_.time_step;
+  const double h = substepTime();
   const bool loads = !pins.empty();
-  if (loads) reactions_.begin(model_, pins, state_, options_.settings.integrator);
+  if (loads) {
+    reactions_.begin(SolverInput{model_, pins, h, revision_}, state_, options_.settings.integrator);
+  }
   if (colliders_.empty() && !self_contact_) {  // nothing to collide with: no start state to keep
-    solve(SolverInput{model_, pins, revision_, nullptr}, report);
+    solve(SolverInput{model_, pins, h, revision_, nullptr}, report);
     if (loads) reactions_.finish(model_, pins, state_.positions, pin_loads_);
     return;
   }
   const Points start = state_.positions, start_velocities = state_.velocities;
-  colliders_.advance(h, model_.gravity, velocityDecay(model_));
+  colliders_.advance(h, model_.gravity, velocityDecay(model_, h));
   const CollisionStep collision{h, model_.mass, movable_, start, &start_velocities, model_.gravity};
   contacts_.beginStep(collision, colliders_);
-  const SolveResult solved = solve(SolverInput{model_, pins, revision_, &contacts_}, report);
+  const SolveResult solved = solve(SolverInput{model_, pins, h, revision_, &contacts_}, report);
   // The loads of the solve itself, before the collision response moves soft-pinned particles.
   if (loads) reactions_.finish(model_, pins, state_.positions, pin_loads_);
   // Only a solver that solved the contacts this step has fresh ball positions to hand over.
@@ -250,13 +254,10 @@ SolveResult Simulation::solve(const SolverInput& input, StepReport& report) {
     state_ = before;
     SolverSettings euler = options_.settings;
     euler.integrator = Integrator::kImplicitEuler;
-    const double h = model_.time_step;
-    model_.time_step = 0.5 * h;
-    const SolverInput half{model_, input.pins, input.revision, nullptr};
+    const SolverInput half{input.model, input.pins, 0.5 * input.h, input.revision, nullptr};
     solver_->step(half, euler, state_);
     solved = solver_->step(half, euler, state_);
-    model_.time_step = h;
-    state_.time = before.time + h;
+    state_.time = before.time + input.h;
     ++report.midpoint_fallbacks;
   }
   return finishSolve(solved, t_solve, report);
@@ -296,7 +297,7 @@ void Simulation::applySphereJumps(double sign) {
   for (const SphereJump& jump : sphere_jumps_) {
     const SphereCollider* s = colliders_.findSphere(jump.id);
     if (s == nullptr) continue;
-    colliders_.moveSphere(jump.id, s->center, s->velocity + sign * jump.displacement / frame_time_);
+    colliders_.moveSphere(jump.id, s->center, s->velocity + sign * jump.displacement / frameTime());
   }
 }
 
@@ -440,9 +441,8 @@ void Simulation::setTimeStep(double h) {
     throw std::invalid_argument("time step " + std::to_string(h) + " s must be finite and " +
                                 settings::kTimeStep.requirement());
   }
-  if (h == frame_time_) return;
-  frame_time_ = h;
-  model_.time_step = h / options_.settings.substeps;
+  if (h == options_.frame_time) return;
+  options_.frame_time = h;
   ++revision_;
   state_.has_previous = false;  // BDF2's history is for the old step
 }
@@ -459,7 +459,6 @@ void Simulation::setSolverSettings(const SolverSettings& settings) {
   settings.validate();
   solver_->requireSettings(settings);
   if (settings.substeps != options_.settings.substeps) {
-    model_.time_step = frame_time_ / settings.substeps;
     ++revision_;
     state_.has_previous = false;
   }

@@ -6,14 +6,15 @@
 
 namespace cloth_sim {
 
-double velocityDecay(const Model& model) { return std::exp(-model.damping * model.time_step); }
+double velocityDecay(const Model& model, double h) { return std::exp(-model.damping * h); }
 
 ImplicitStepProblem ImplicitStepProblem::build(const Model& model, const PinSet& pins,
-                                               const State& state, Integrator integrator) {
+                                               const State& state, double h,
+                                               Integrator integrator) {
   ImplicitStepProblem p;
   p.model = &model;
   p.pins = &pins;
-  p.h = model.time_step;
+  p.h = h;
   p.start = state.positions;
   p.start_velocities = state.velocities;
   p.bdf2 = integrator == Integrator::kBdf2 && state.has_previous &&
@@ -22,7 +23,7 @@ ImplicitStepProblem ImplicitStepProblem::build(const Model& model, const PinSet&
   if (p.bdf2) {
     // Each past velocity decays by its age (q, q^2): exact for a free damped particle, whose
     // velocities then stay q^n v_0, as implicit Euler's q v_n is.
-    const double q = velocityDecay(model);
+    const double q = velocityDecay(model, p.h);
     p.implicit_h = 2.0 * p.h / 3.0;
     p.previous = state.previous_positions;
     p.inertial = (4.0 * state.positions - state.previous_positions) / 3.0 +
@@ -30,10 +31,10 @@ ImplicitStepProblem ImplicitStepProblem::build(const Model& model, const PinSet&
   } else if (integrator == Integrator::kImplicitMidpoint) {
     p.midpoint = true;
     p.implicit_h = 0.5 * p.h;
-    p.inertial = state.positions + (0.5 * p.h * velocityDecay(model)) * state.velocities;
+    p.inertial = state.positions + (0.5 * p.h * velocityDecay(model, p.h)) * state.velocities;
   } else {
     p.implicit_h = p.h;
-    p.inertial = state.positions + (p.h * velocityDecay(model)) * state.velocities;
+    p.inertial = state.positions + (p.h * velocityDecay(model, p.h)) * state.velocities;
   }
   for (const Pin& pin : pins.pins()) {
     if (pin.isHard()) p.inertial.col(pin.vertex) = pin.target;
@@ -80,7 +81,7 @@ State ImplicitStepProblem::finish(const Points& x, double start_time) const {
   State next;
   if (midpoint) {
     next.positions = 2.0 * x - start;
-    next.velocities = (4.0 / h) * (x - start) - velocityDecay(*model) * start_velocities;
+    next.velocities = (4.0 / h) * (x - start) - velocityDecay(*model, h) * start_velocities;
     for (const Pin& pin : pins->pins()) {
       // Extrapolating a pinned particle would put it at 2 t - x_n: it follows its target.
       if (!pin.isHard()) continue;

@@ -91,7 +91,7 @@ bool NewtonSolver::factorize() {
 SolveResult NewtonSolver::step(const SolverInput& in, const SolverSettings& settings,
                                State& state) {
   const ImplicitStepProblem problem =
-      ImplicitStepProblem::build(in.model, in.pins, state, settings.integrator);
+      ImplicitStepProblem::build(in.model, in.pins, state, in.h, settings.integrator);
   Points x = problem.inertial;
   const SolveResult result = minimize(in, settings, problem, x);
   state = problem.finish(x, state.time);

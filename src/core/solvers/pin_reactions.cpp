@@ -4,12 +4,13 @@
 
 namespace cloth_sim {
 
-void PinReactions::begin(const Model& model, const PinSet& pins, const State& state,
-                         Integrator integrator) {
+void PinReactions::begin(const SolverInput& input, const State& state, Integrator integrator) {
   // The same prediction as ImplicitStepProblem::build, for the pinned particles only (build
   // overwrites theirs with the target).
-  const double h = model.time_step;
-  const double q = velocityDecay(model);
+  const Model& model = input.model;
+  const PinSet& pins = input.pins;
+  const double h = input.h;
+  const double q = velocityDecay(model, h);
   const bool bdf2 = integrator == Integrator::kBdf2 && state.has_previous &&
                     state.previous_positions.cols() == state.positions.cols() &&
                     state.previous_velocities.cols() == state.positions.cols();

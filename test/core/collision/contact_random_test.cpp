@@ -261,7 +261,6 @@ Outcome runScene(const SceneParams& p, const Config& c) {
   g.pose = Eigen::Translation3d(p.cloth_center) * Eigen::AngleAxisd(p.yaw, Vec3::UnitZ());
   BuiltObject obj = buildGrid(g);
   obj.model.damping = 0.1;
-  obj.model.time_step = kFrame / c.substeps;
   PinSet pins;
   std::vector<int> pin_ids;
   if (p.drag) {
@@ -278,6 +277,7 @@ Outcome runScene(const SceneParams& p, const Config& c) {
   SimulationOptions opt;
   opt.solver = c.solver;
   opt.settings.max_iterations = c.iterations;
+  opt.frame_time = kFrame / c.substeps;
   const Points rest = obj.rest_positions;
   Simulation sim(std::move(obj.model), rest, std::move(pins), std::move(colliders), opt);
 

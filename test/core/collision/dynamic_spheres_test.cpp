@@ -131,7 +131,7 @@ TEST(DynamicSpheres, ABallKeepsFallingAfterASwitchToASolverWithoutContactForces)
   const double v0 = sim.colliders().spheres()[0].velocity.z();
   const int steps = 10;
   for (int k = 0; k < steps; ++k) ASSERT_EQ(sim.step().status, StepStatus::kOk);
-  const double h = sim.model().time_step;
+  const double h = sim.substepTime();
   // Semi-implicit Euler free fall (no drag: damping 0), far above the sheet.
   const double v = v0 - 9.81 * h * steps;
   double z = z0;
@@ -231,7 +231,6 @@ TEST(DynamicSpheres, SinkDepthGrowsWithMassAndMatchesNewtonsStaticEquilibrium) {
   const SphereCollider ball = s.sim.colliders().spheres()[0];
   EXPECT_LT(ball.velocity.norm(), 1e-6);
   Model model = s.sim.model();
-  model.time_step = 100.0;
   model.damping = 0.0;
   PinSet pins = s.sim.pins();
   const Points& x = s.sim.state().positions;
@@ -251,7 +250,7 @@ TEST(DynamicSpheres, SinkDepthGrowsWithMassAndMatchesNewtonsStaticEquilibrium) {
   ASSERT_GE(touching.size(), 3u);
   State still = State::atRest(x);
   NewtonSolver newton;
-  newton.step({model, pins, 1}, test::convergedSettings(100, 1e-12), still);
+  newton.step({model, pins, 100.0, 1}, test::convergedSettings(100, 1e-12), still);
   Points forces;
   totalForces(model, pins, still.positions, forces);
   // Newton did reach the static equilibrium: no net force left on any free particle.

@@ -130,7 +130,7 @@ double liftedLoadError(Simulation sim) {
     return Pose(Eigen::Translation3d(0.0, 0.0, 0.5 * a * s * s));
   });
   for (int k = 0; k < 60; ++k) EXPECT_EQ(sim.step().status, StepStatus::kOk);
-  const double h = sim.model().time_step, v = a * (sim.state().time - t0);
+  const double h = sim.substepTime(), v = a * (sim.state().time - t0);
   const double drag = v * (1.0 - std::exp(-sim.model().damping * h)) / h;  // m/s^2
   const Vec3 expected = sim.model().mass.sum() * (sim.model().gravity - Vec3(0, 0, a + drag));
   return relativeError(graspForce(sim), expected);

@@ -144,6 +144,21 @@ TEST(Simulation, BadEditsAreRefusedAndChangeNothing) {
   EXPECT_EQ(sim.step().status, StepStatus::kOk);
 }
 
+TEST(Simulation, AFrameTimeThatIsNotPositiveIsRefusedNamingIt) {
+  // The frame time is the simulation's (SimulationOptions), not the model's.
+  const test::HangingSpring sys = test::makeHangingSpring(0.1, 50.0, 0.5, 1.0 / 60.0);
+  for (double frame_time : {0.0, -1.0, std::nan("")}) {
+    SimulationOptions options;
+    options.frame_time = frame_time;
+    try {
+      Simulation(sys.model, sys.rest, sys.pins, Colliders(), options);
+      ADD_FAILURE() << "frame time " << frame_time << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("time_step"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Simulation, ResetRestoresInitialStatePinsAndSpheres) {
   Simulation sim = sceneWithSolver("hanging", "local_global");
   const Points initial = sim.state().positions;

@@ -32,7 +32,7 @@ TEST(Substeps, AFrameOfNSubstepsIsNStepsOfTheSmallerStep) {
   Simulation framed = makeSimulation(hangingScene(60, 4));
   Simulation fine = makeSimulation(hangingScene(240, 1));
   EXPECT_DOUBLE_EQ(framed.frameTime(), 1.0 / 60.0);
-  EXPECT_DOUBLE_EQ(framed.model().time_step, 1.0 / 240.0);
+  EXPECT_DOUBLE_EQ(framed.substepTime(), 1.0 / 240.0);
   for (int f = 0; f < 20; ++f) {
     const StepReport r = framed.step();
     ASSERT_EQ(r.status, StepStatus::kOk);
@@ -166,7 +166,7 @@ TEST(Substeps, ChangingThemRefactorsOnceAndKeepsTheFrame) {
   settings.substeps = 8;
   sim.setSolverSettings(settings);
   EXPECT_GT(sim.revision(), revision);
-  EXPECT_DOUBLE_EQ(sim.model().time_step, 1.0 / 480.0);
+  EXPECT_DOUBLE_EQ(sim.substepTime(), 1.0 / 480.0);
   const int factorizations = sim.factorizationCount();
   const double t = sim.state().time;
   sim.step();

@@ -51,7 +51,7 @@ double measuredFactor(Integrator integrator, double h_omega, double* worst_step_
   const SolverSettings settings = settingsFor(integrator);
   std::vector<double> x;  // displacement from rest
   for (int n = 0; n < 200; ++n) {
-    solver.step({sys.model, sys.pins, 1}, settings, s);
+    solver.step({sys.model, sys.pins, sys.h, 1}, settings, s);
     x.push_back(-s.positions(2, 1) - rest);
   }
   auto q = [&](int n) {
@@ -90,15 +90,15 @@ TEST(Bdf2, FreeDampedParticleVelocityDecaysExactlyAsExpMinusGammaT) {
   model.mass = Eigen::VectorXd::Constant(1, 0.3);
   model.gravity.setZero();
   model.damping = 4.0;
-  model.time_step = 0.05;
+  const double h = 0.05;
   PinSet pins;
   State s = State::atRest(Points::Zero(3, 1));
   s.velocities.col(0) = Vec3(1.0, -2.0, 0.5);
   const Vec3 v0 = s.velocities.col(0);
   NewtonSolver solver;
   for (int n = 1; n <= 20; ++n) {
-    solver.step({model, pins, 1}, settingsFor(Integrator::kBdf2), s);
-    EXPECT_LT((s.velocities.col(0) - std::exp(-model.damping * n * model.time_step) * v0).norm(),
+    solver.step({model, pins, h, 1}, settingsFor(Integrator::kBdf2), s);
+    EXPECT_LT((s.velocities.col(0) - std::exp(-model.damping * n * h) * v0).norm(),
               1e-12)
         << "step " << n;
   }
@@ -112,13 +112,13 @@ double energyAfter(Integrator integrator, double seconds, double h, double dampi
   spec.material.areal_density = 1.0;
   spec.shear_pattern = ShearPattern::kTriangle;
   BuiltObject g = buildGrid(spec);
-  g.model.time_step = h;
   g.model.damping = damping;
   PinSet pins;
   pins.add(0, g.rest_positions.col(0), 0.0, 64);
   pins.add(7, g.rest_positions.col(7), 0.0, 64);
   SimulationOptions options;
   options.solver = "newton";
+  options.frame_time = h;
   options.settings = settingsFor(integrator, 100, 1e-12);
   Simulation sim(g.model, g.rest_positions, pins, Colliders(), options);
   const int frames = static_cast<int>(std::lround(seconds / h));
@@ -191,12 +191,12 @@ TEST(Bdf2, FreeClothConservesLinearMomentum) {
 Points clothAfter(Integrator integrator, double seconds, int steps) {
   BuiltObject g = test::makeGrid(4, 4, 20.0, 2.0, 0.0);
   g.model.mass *= 10.0;
-  g.model.time_step = seconds / steps;
+  const double h = seconds / steps;
   PinSet pins;
   pins.add(0, g.rest_positions.col(0), 0.0, 16);
   State s = State::atRest(g.rest_positions);
   NewtonSolver solver;
-  for (int n = 0; n < steps; ++n) solver.step({g.model, pins, 1}, settingsFor(integrator, 100, 1e-13), s);
+  for (int n = 0; n < steps; ++n) solver.step({g.model, pins, h, 1}, settingsFor(integrator, 100, 1e-13), s);
   return s.positions;
 }
 
@@ -220,7 +220,7 @@ TEST(Bdf2, ConvergesAtSecondOrderAndImplicitEulerAtFirst) {
 
 TEST(Bdf2, NewtonLocalGlobalAnd3nAgreeOnABdf2Step) {
   BuiltObject g = test::makeGrid(6, 6, 400.0, 40.0, 4.0);
-  g.model.time_step = 1.0 / 60.0;
+  const double h = 1.0 / 60.0;
   g.model.damping = 0.5;
   PinSet pins;
   pins.add(0, g.rest_positions.col(0), 0.0, 36);
@@ -228,16 +228,16 @@ TEST(Bdf2, NewtonLocalGlobalAnd3nAgreeOnABdf2Step) {
   State s = State::atRest(g.rest_positions);
   NewtonSolver newton;
   const SolverSettings converged = settingsFor(Integrator::kBdf2, 100, 1e-14);
-  for (int n = 0; n < 5; ++n) newton.step({g.model, pins, 1}, converged, s);
+  for (int n = 0; n < 5; ++n) newton.step({g.model, pins, h, 1}, converged, s);
   ASSERT_TRUE(s.has_previous);
-  ASSERT_TRUE(ImplicitStepProblem::build(g.model, pins, s, Integrator::kBdf2).bdf2);
+  ASSERT_TRUE(ImplicitStepProblem::build(g.model, pins, s, h, Integrator::kBdf2).bdf2);
 
   State by_newton = s, by_local_global = s, by_3n = s;
-  newton.step({g.model, pins, 1}, converged, by_newton);
+  newton.step({g.model, pins, h, 1}, converged, by_newton);
   LocalGlobalSolver local_global;
-  local_global.step({g.model, pins, 1}, settingsFor(Integrator::kBdf2, 20000, 1e-15), by_local_global);
+  local_global.step({g.model, pins, h, 1}, settingsFor(Integrator::kBdf2, 20000, 1e-15), by_local_global);
   LocalGlobal3nSolver three_n;
-  three_n.step({g.model, pins, 1}, settingsFor(Integrator::kBdf2, 20000, 1e-15), by_3n);
+  three_n.step({g.model, pins, h, 1}, settingsFor(Integrator::kBdf2, 20000, 1e-15), by_3n);
   const double moved = (by_newton.positions - s.positions).norm();
   EXPECT_LT((by_local_global.positions - by_newton.positions).norm(), 1e-9 * moved);
   EXPECT_LT((by_3n.positions - by_newton.positions).norm(), 1e-9 * moved);
@@ -247,18 +247,18 @@ TEST(Bdf2, NewtonLocalGlobalAnd3nAgreeOnABdf2Step) {
 
 TEST(Bdf2, FirstStepIsImplicitEulerThenOneRefactorForTheBdf2Matrix) {
   BuiltObject g = test::makeGrid(5, 5, 300.0, 30.0, 0.0);
-  g.model.time_step = 1.0 / 60.0;
+  const double h = 1.0 / 60.0;
   PinSet pins;
   pins.add(0, g.rest_positions.col(0), 0.0, 25);
   const State start = State::atRest(g.rest_positions);
   LocalGlobalSolver bdf2, euler;
   State a = start, b = start;
-  bdf2.step({g.model, pins, 1}, settingsFor(Integrator::kBdf2, 10, 0.0), a);
-  euler.step({g.model, pins, 1}, settingsFor(Integrator::kImplicitEuler, 10, 0.0), b);
+  bdf2.step({g.model, pins, h, 1}, settingsFor(Integrator::kBdf2, 10, 0.0), a);
+  euler.step({g.model, pins, h, 1}, settingsFor(Integrator::kImplicitEuler, 10, 0.0), b);
   EXPECT_EQ(a.positions, b.positions);  // no history yet: the same implicit Euler step
   EXPECT_TRUE(a.has_previous);
   EXPECT_EQ(a.previous_positions, start.positions);
-  for (int n = 0; n < 5; ++n) bdf2.step({g.model, pins, 1}, settingsFor(Integrator::kBdf2, 10, 0.0), a);
+  for (int n = 0; n < 5; ++n) bdf2.step({g.model, pins, h, 1}, settingsFor(Integrator::kBdf2, 10, 0.0), a);
   EXPECT_EQ(bdf2.factorizationCount(), 2);  // M + h^2 L, then M + (4/9) h^2 L once
 }
 

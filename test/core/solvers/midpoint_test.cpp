@@ -42,7 +42,7 @@ TEST(ImplicitMidpoint, OscillatorRotatesByTheClosedFormAngleWithConstantEnergy) 
     NewtonSolver solver;
     double worst_x = 0.0, worst_v = 0.0, worst_energy = 0.0;
     for (int n = 1; n <= 300; ++n) {
-      solver.step({sys.model, sys.pins, 1}, settingsFor(kMidpoint), s);
+      solver.step({sys.model, sys.pins, sys.h, 1}, settingsFor(kMidpoint), s);
       const double x = -s.positions(2, 1) - rest, v = -s.velocities(2, 1);
       worst_x = std::max(worst_x, std::abs(x - d * std::cos(n * theta)));
       worst_v = std::max(worst_v, std::abs(v + omega * d * std::sin(n * theta)));
@@ -66,15 +66,15 @@ TEST(ImplicitMidpoint, FreeDampedParticleVelocityDecaysExactlyAsExpMinusGammaT) 
   model.mass = Eigen::VectorXd::Constant(1, 0.3);
   model.gravity.setZero();
   model.damping = 4.0;
-  model.time_step = 0.05;
+  const double h = 0.05;
   PinSet pins;
   State s = State::atRest(Points::Zero(3, 1));
   s.velocities.col(0) = Vec3(1.0, -2.0, 0.5);
   const Vec3 v0 = s.velocities.col(0);
   NewtonSolver solver;
   for (int n = 1; n <= 20; ++n) {
-    solver.step({model, pins, 1}, settingsFor(kMidpoint), s);
-    EXPECT_LT((s.velocities.col(0) - std::exp(-model.damping * n * model.time_step) * v0).norm(),
+    solver.step({model, pins, h, 1}, settingsFor(kMidpoint), s);
+    EXPECT_LT((s.velocities.col(0) - std::exp(-model.damping * n * h) * v0).norm(),
               1e-12)
         << "step " << n;
   }
@@ -107,7 +107,7 @@ TEST(ImplicitMidpoint, UndampedClothEnergyDriftsFarLessThanBdf2s) {
 
 TEST(ImplicitMidpoint, NewtonLocalGlobalAnd3nAgreeOnAMidpointStep) {
   BuiltObject g = test::makeGrid(6, 6, 400.0, 40.0, 4.0);
-  g.model.time_step = 1.0 / 60.0;
+  const double h = 1.0 / 60.0;
   g.model.damping = 0.5;
   PinSet pins;
   pins.add(0, g.rest_positions.col(0), 0.0, 36);
@@ -115,15 +115,15 @@ TEST(ImplicitMidpoint, NewtonLocalGlobalAnd3nAgreeOnAMidpointStep) {
   State s = State::atRest(g.rest_positions);
   NewtonSolver newton;
   const SolverSettings converged = settingsFor(kMidpoint, 100, 1e-14);
-  for (int n = 0; n < 5; ++n) newton.step({g.model, pins, 1}, converged, s);
-  ASSERT_TRUE(ImplicitStepProblem::build(g.model, pins, s, kMidpoint).midpoint);
+  for (int n = 0; n < 5; ++n) newton.step({g.model, pins, h, 1}, converged, s);
+  ASSERT_TRUE(ImplicitStepProblem::build(g.model, pins, s, h, kMidpoint).midpoint);
 
   State by_newton = s, by_local_global = s, by_3n = s;
-  newton.step({g.model, pins, 1}, converged, by_newton);
+  newton.step({g.model, pins, h, 1}, converged, by_newton);
   LocalGlobalSolver local_global;
-  local_global.step({g.model, pins, 1}, settingsFor(kMidpoint, 20000, 1e-15), by_local_global);
+  local_global.step({g.model, pins, h, 1}, settingsFor(kMidpoint, 20000, 1e-15), by_local_global);
   LocalGlobal3nSolver three_n;
-  three_n.step({g.model, pins, 1}, settingsFor(kMidpoint, 20000, 1e-15), by_3n);
+  three_n.step({g.model, pins, h, 1}, settingsFor(kMidpoint, 20000, 1e-15), by_3n);
   const double moved = (by_newton.positions - s.positions).norm();
   EXPECT_LT((by_local_global.positions - by_newton.positions).norm(), 1e-9 * moved);
   EXPECT_LT((by_3n.positions - by_newton.positions).norm(), 1e-9 * moved);
@@ -131,7 +131,7 @@ TEST(ImplicitMidpoint, NewtonLocalGlobalAnd3nAgreeOnAMidpointStep) {
             1e-9 * by_newton.velocities.norm());
   // One matrix, M + (h/2)^2 L, factored once however many steps.
   for (int n = 0; n < 5; ++n) {
-    local_global.step({g.model, pins, 1}, settingsFor(kMidpoint, 10, 0.0), s);
+    local_global.step({g.model, pins, h, 1}, settingsFor(kMidpoint, 10, 0.0), s);
   }
   EXPECT_EQ(local_global.factorizationCount(), 1);
 }
@@ -139,16 +139,16 @@ TEST(ImplicitMidpoint, NewtonLocalGlobalAnd3nAgreeOnAMidpointStep) {
 TEST(ImplicitMidpoint, HardPinsEndOnTheirTargetsWithTheMeanVelocity) {
   // Extrapolating x_{n+1} = 2 x_half - x_n would put a pin moved to t at 2 t - x_n.
   BuiltObject g = test::makeGrid(4, 4, 300.0, 30.0, 0.0);
-  g.model.time_step = 0.01;
+  const double h = 0.01;
   PinSet pins;
   const Vec3 target = g.rest_positions.col(0) + Vec3(0.02, 0.0, 0.01);
   pins.add(0, target, 0.0, 16);
   pins.add(3, g.rest_positions.col(3), 0.0, 16);
   State s = State::atRest(g.rest_positions);
   LocalGlobalSolver solver;
-  solver.step({g.model, pins, 1}, settingsFor(kMidpoint, 10, 0.0), s);
+  solver.step({g.model, pins, h, 1}, settingsFor(kMidpoint, 10, 0.0), s);
   EXPECT_EQ(s.positions.col(0), target);
-  EXPECT_LT((s.velocities.col(0) - (target - g.rest_positions.col(0)) / 0.01).norm(), 1e-12);
+  EXPECT_LT((s.velocities.col(0) - (target - g.rest_positions.col(0)) / h).norm(), 1e-12);
   EXPECT_EQ(s.positions.col(3), g.rest_positions.col(3));
   EXPECT_EQ(s.velocities.col(3), Vec3::Zero());
 }
@@ -169,7 +169,6 @@ struct Release {
     spec.material.bending = 10.0;
     spec.pose = Eigen::Translation3d(0.0, 0.0, 1.5) * Eigen::Isometry3d::Identity();
     g = buildGrid(spec);
-    g.model.time_step = 1.0 / 60.0;
     g.model.damping = 0.5;
     for (int col = 0; col < 16; ++col) pins.add(col, g.rest_positions.col(col), 0.0, 256);
   }
@@ -184,7 +183,7 @@ TEST(ImplicitMidpoint, EnergyGainingStepsAreRedoneAsTwoImplicitEulerHalfSteps) {
   LocalGlobalSolver solver;
   double plain_strain = 0.0;
   for (int n = 0; n < 180 && s.positions.allFinite(); ++n) {
-    solver.step({plain.g.model, plain.pins, 1}, settingsFor(kMidpoint, 10, 0.0), s);
+    solver.step({plain.g.model, plain.pins, 1.0 / 60.0, 1}, settingsFor(kMidpoint, 10, 0.0), s);
     plain_strain = std::max(plain_strain, maxStrain(plain.g.model.springs, s.positions));
   }
   Release guarded;

@@ -22,13 +22,13 @@ TEST(Newton, SoftPinSagsByWeightOverPinStiffness) {
 
 TEST(Newton, ConvergesFromACrumpledStartWhereTheHessianIsIndefinite) {
   BuiltObject g = test::makeGrid(6, 6, 500.0, 50.0, 5.0);
-  g.model.time_step = 1.0 / 30.0;
+  const double h = 1.0 / 30.0;
   PinSet pins;
   // Every spring starts at 40 % of its rest length plus noise: compression everywhere.
   State s = State::atRest(0.4 * g.rest_positions + 0.01 * Points::Random(3, 36));
-  const ImplicitStepProblem problem = ImplicitStepProblem::build(g.model, pins, s);
+  const ImplicitStepProblem problem = ImplicitStepProblem::build(g.model, pins, s, h);
   NewtonSolver solver;
-  const SolveResult r = solver.step({g.model, pins, 1}, test::convergedSettings(200, 1e-13), s);
+  const SolveResult r = solver.step({g.model, pins, h, 1}, test::convergedSettings(200, 1e-13), s);
   EXPECT_TRUE(r.converged);
   Points grad;
   problem.gradient(s.positions, grad);
@@ -44,14 +44,14 @@ TEST(Newton, ConvergesFromACrumpledStartWhereTheHessianIsIndefinite) {
 
 TEST(Newton, WarmStartReachesTheSameMinimumInFewerIterations) {
   BuiltObject g = test::makeGrid(8, 8, 400.0, 40.0, 4.0);
-  g.model.time_step = 1.0 / 30.0;
+  const double h = 1.0 / 30.0;
   PinSet pins;
   pins.add(0, g.rest_positions.col(0), 0.0, 64);
   State s = State::atRest(g.rest_positions);
   s.velocities.row(2).setConstant(-1.0);
   s.velocities.col(0).setZero();
-  const SolverInput input{g.model, pins, 1};
-  const ImplicitStepProblem problem = ImplicitStepProblem::build(g.model, pins, s);
+  const SolverInput input{g.model, pins, h, 1};
+  const ImplicitStepProblem problem = ImplicitStepProblem::build(g.model, pins, s, h);
   NewtonSolver cold, warm;
   Points x_cold = problem.inertial;
   const SolveResult r_cold = cold.minimize(input, test::convergedSettings(500, 1e-13), problem, x_cold);
@@ -73,9 +73,9 @@ TEST(Newton, EigenAndCholmodFactorizationsAgree) {
   State a = State::atRest(g.rest_positions), b = a;
   SolverSettings settings = test::convergedSettings(100, 1e-13);
   NewtonSolver na, nb;
-  na.step({g.model, pins, 1}, settings, a);
+  na.step({g.model, pins, 1.0 / 60.0, 1}, settings, a);
   settings.linear_solver = LinearSolver::kEigen;
-  nb.step({g.model, pins, 1}, settings, b);
+  nb.step({g.model, pins, 1.0 / 60.0, 1}, settings, b);
   EXPECT_LT((a.positions - b.positions).norm(), 1e-12 * a.positions.norm());
 }
 

@@ -18,7 +18,7 @@ struct PinSpec {
 };
 
 /// The cloth object (model and rest positions) the scene describes, grid or mesh, with its
-/// time step, gravity and damping set.
+/// gravity and damping set (the time step goes to SimulationOptions::frame_time).
 BuiltObject buildCloth(const SceneConfig& scene);
 
 /// The pins of @p scene, in scene order, on the cloth whose rest positions are @p rest (from

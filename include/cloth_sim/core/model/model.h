@@ -37,8 +37,10 @@ struct Springs {
   void add(int i, int j, double rest, double k, SpringFamily f);
 };
 
-/// Everything about a mass-spring object that does not change while it moves.
-/// Edited only between steps (through Simulation), which then refactors what depends on it.
+/// Everything about a mass-spring object that does not change while it moves: its physical
+/// parameters (particles, springs, damping, gravity). The time step is not one of them: it is
+/// an input of each solve (SolverInput::h). Edited only between steps (through Simulation),
+/// which then refactors what depends on it.
 struct Model {
   Eigen::VectorXd mass;            ///< kg, lumped mass of each particle, > 0
   Springs springs;                 ///< all springs of all families
@@ -47,7 +49,6 @@ struct Model {
   /// Linear drag rate gamma (1/s): a free particle's velocity decays as exp(-gamma t)
   /// (mass-proportional damping, force -gamma m v, like still air). 0 = undamped.
   double damping = 0.0;
-  double time_step = 1.0 / 60.0;   ///< s, implicit Euler step h
 
   int particleCount() const { return static_cast<int>(mass.size()); }
   /// Sets the stiffness (N/m) of every spring of @p family.
@@ -57,7 +58,7 @@ struct Model {
   /// Number of springs in @p family.
   int familySize(SpringFamily family) const;
   /// Throws std::invalid_argument naming the first inconsistent field (non-positive mass,
-  /// spring index out of range, zero rest length, non-finite value, h <= 0, ...).
+  /// spring index out of range, zero rest length, non-finite value, ...).
   void validate() const;
 };
 

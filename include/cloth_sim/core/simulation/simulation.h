@@ -55,10 +55,14 @@ struct StepReport {
   std::string message;       ///< empty when ok; otherwise what went wrong and what was done
 };
 
-/// Options fixed at construction (the solver and its settings can be changed later).
+/// Options fixed at construction (the solver, its settings and the frame time can be changed
+/// later).
 struct SimulationOptions {
   std::string solver = "local_global";  ///< a name from solverNames()
   SolverSettings settings;
+  /// s of simulated time one Simulation::step advances (makeSimulation sets it from the scene's
+  /// time_step); each of its SolverSettings::substeps implicit steps is frame_time / substeps.
+  double frame_time = 1.0 / 60.0;
   /// Strain (|l - r| / r) above which a step is declared diverged and rolled back. The default
   /// 100 (10,000 %) is far above anything an implicit step reaches, even with a pin yanked 1 m
   /// across a 30-particle cloth, and is hit within a few steps by an unstable explicit solver.
@@ -83,7 +87,7 @@ class Simulation {
              SimulationOptions options);
 
   /// Advances by one frame, frameTime() s, as SolverSettings::substeps implicit steps of
-  /// model().time_step = frameTime() / substeps: in each, spheres move, the solver steps,
+  /// substepTime() = frameTime() / substeps: in each, spheres move, the solver steps,
   /// contacts are resolved. Pin targets and kinematic sphere centres the user moved since the
   /// last frame move there linearly across the substeps (no jerk in the first substep). A
   /// non-finite or diverged frame is rolled back: the cloth and spheres return to what they were
@@ -146,9 +150,11 @@ class Simulation {
 
   // --- read access ----------------------------------------------------------------------------
   const Model& model() const { return model_; }
-  /// s of simulated time one step() advances: the scene's time_step (model().time_step is the
-  /// implicit step, this divided by SolverSettings::substeps).
-  double frameTime() const { return frame_time_; }
+  /// s of simulated time one step() advances: the scene's time_step
+  /// (SimulationOptions::frame_time).
+  double frameTime() const { return options_.frame_time; }
+  /// s, the implicit step h of each substep: frameTime() / SolverSettings::substeps.
+  double substepTime() const { return options_.frame_time / options_.settings.substeps; }
   const State& state() const { return state_; }
   /// m, the positions the simulation started from (and reset() returns to).
   const Points& initialPositions() const { return initial_state_.positions; }
@@ -192,7 +198,7 @@ class Simulation {
   void requireNotGrasped(int id, const char* what) const;
   /// Zero loads for the current pins (after a pin-set change or a rollback).
   void clearLoads();
-  /// One implicit step of model_.time_step with @p pins; adds what it did to @p report.
+  /// One implicit step of substepTime() with @p pins; adds what it did to @p report.
   void substep(const PinSet& pins, StepReport& report);
   /// The solver's step on @p input, its iterations and time added to @p report.
   SolveResult solve(const SolverInput& input, StepReport& report);
@@ -237,7 +243,6 @@ class Simulation {
   ContactForces contacts_;     ///< in-solve contact forces, warm-started across steps
   std::unique_ptr<SelfContact> self_contact_;  ///< null when self-contact is off
   std::unique_ptr<IntersectionCounter> intersections_;  ///< built at first use
-  double frame_time_ = 0.0;    ///< s, see frameTime()
   std::vector<std::pair<int, Vec3>> frame_targets_;  ///< pin id -> target at the last frame's end
   double shortest_rest_length_ = 0.0;  ///< m, of all springs (maxPinMove)
   std::vector<SphereJump> sphere_jumps_;

@@ -10,10 +10,10 @@
 
 namespace cloth_sim {
 
-/// Factor exp(-gamma h) applied to the velocity before a step: the exact decay of the linear
-/// drag dv/dt = -gamma v over one step (Model::damping). Shared by every solver, so all of them
-/// integrate the same damped system.
-double velocityDecay(const Model& model);
+/// Factor exp(-gamma h) applied to the velocity before a step of @p h s: the exact decay of the
+/// linear drag dv/dt = -gamma v over one step (Model::damping). Shared by every solver, so all
+/// of them integrate the same damped system.
+double velocityDecay(const Model& model, double h);
 
 /// The implicit Euler step from state x_n, v_n with step h:
 ///
@@ -57,10 +57,11 @@ struct ImplicitStepProblem {
   Points previous;           ///< x_{n-1}, m (BDF2 only)
   Points inertial;           ///< y, m; hard-pinned particles at their targets
 
-  /// Builds y from @p state (positions x_n, velocities v_n, and for BDF2 its previous state)
-  /// and the current pin targets. kBdf2 without State::has_previous builds implicit Euler.
+  /// Builds the step of @p h s (SolverInput::h) from @p state (positions x_n, velocities v_n,
+  /// and for BDF2 its previous state) and the current pin targets. kBdf2 without
+  /// State::has_previous builds implicit Euler.
   static ImplicitStepProblem build(const Model& model, const PinSet& pins, const State& state,
-                                   Integrator integrator = Integrator::kImplicitEuler);
+                                   double h, Integrator integrator = Integrator::kImplicitEuler);
 
   /// g(x), kg m^2. @p x must hold hard-pinned particles at their targets.
   double objective(const Points& x) const;

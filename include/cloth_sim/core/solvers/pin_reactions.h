@@ -30,9 +30,9 @@ namespace cloth_sim {
 /// minimisation). Contact forces on a hard-pinned particle are not included: collisions skip it.
 class PinReactions {
  public:
-  /// Keeps y_i and h_i of every hard-pinned particle for the step from @p state (x_n, v_n and,
-  /// for BDF2, its history) with @p integrator.
-  void begin(const Model& model, const PinSet& pins, const State& state, Integrator integrator);
+  /// Keeps y_i and h_i of every hard-pinned particle of input.pins for the step of input.h
+  /// from @p state (x_n, v_n and, for BDF2, its history) with @p integrator.
+  void begin(const SolverInput& input, const State& state, Integrator integrator);
   /// The load (N) on each pin of @p pins (the same set as begin's), in pins.pins() order, for
   /// the step that ended at positions @p x.
   void finish(const Model& model, const PinSet& pins, const Points& x,

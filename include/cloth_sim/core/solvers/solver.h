@@ -61,7 +61,7 @@ struct SolverSettings {
   /// stops them first; newton uses it as a cap. Ignored by the explicit solvers.
   int max_iterations = 10;
   /// Implicit steps per frame: Simulation::step advances the frame time_step as this many steps
-  /// of time_step / substeps (read by Simulation; a solver sees one step of model.time_step).
+  /// of time_step / substeps (read by Simulation; a solver sees one step of SolverInput::h).
   /// Smaller steps damp less and resolve contact better; see docs/method.md, "Substeps".
   int substeps = 1;
   /// Stop when the convergence measure (relative position change of the last iteration, see
@@ -114,8 +114,16 @@ class ContactForces;
 
 /// The parts of the world a solver reads besides the state.
 struct SolverInput {
+  /// Every field but the contacts is required (a constructor, so that no caller forgets h).
+  SolverInput(const Model& model, const PinSet& pins, double h, std::uint64_t revision,
+              ContactForces* contacts = nullptr)
+      : model(model), pins(pins), h(h), revision(revision), contacts(contacts) {}
+
   const Model& model;
   const PinSet& pins;
+  /// s, the step h the solver advances the state by: the frame time / substeps in Simulation
+  /// (h/2 in the implicit midpoint safeguard's fallback). The model holds no step of its own.
+  double h;
   /// Bumped whenever h, a stiffness, a mass, the set of pins or SolverSettings::integrator
   /// changes: a solver holding a factorization refactors when it sees a new value (or, within
   /// a BDF2 run, a new implicit step h_i: see RevisionCache), and only then.
@@ -127,7 +135,7 @@ struct SolverInput {
 };
 
 /// A time integrator for the mass-spring model. It moves @c state by one step of
-/// model.time_step (pins at their current targets, no collision: Simulation resolves those).
+/// SolverInput::h (pins at their current targets, no collision: Simulation resolves those).
 class Solver {
  public:
   virtual ~Solver() = default;

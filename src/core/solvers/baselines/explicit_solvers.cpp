@@ -20,11 +20,11 @@ SolveResult ExplicitEulerSolver::step(const SolverInput& in, const SolverSetting
                                       State& state) {
   requireIntegrator(*this, settings.integrator);
   state.has_previous = false;  // no implicit step's history
-  const double h = in.model.time_step;
+  const double h = in.h;
   const Points start = state.positions;
   Points forces;
   totalForces(in.model, in.pins, state.positions, forces);
-  state.velocities = velocityDecay(in.model) * state.velocities +
+  state.velocities = velocityDecay(in.model, h) * state.velocities +
                      h * forces * in.model.mass.cwiseInverse().asDiagonal();
   state.positions += h * state.velocities;
   applyHardPins(in.pins, start, h, state);
@@ -36,13 +36,13 @@ SolveResult VerletSolver::step(const SolverInput& in, const SolverSettings& sett
                                State& state) {
   requireIntegrator(*this, settings.integrator);
   state.has_previous = false;  // no implicit step's history
-  const double h = in.model.time_step;
+  const double h = in.h;
   const auto inverse_mass = in.model.mass.cwiseInverse().asDiagonal();
   const Points start = state.positions;
   Points forces;
   totalForces(in.model, in.pins, state.positions, forces);
   const Points accel_start = forces * inverse_mass;
-  const Points damped_velocity = velocityDecay(in.model) * state.velocities;
+  const Points damped_velocity = velocityDecay(in.model, h) * state.velocities;
   state.positions += h * damped_velocity + (0.5 * h * h) * accel_start;
   for (const Pin& pin : in.pins.pins()) {
     if (pin.isHard()) state.positions.col(pin.vertex) = pin.target;

@@ -31,7 +31,7 @@ SolveResult LocalGlobal3nSolver::step(const SolverInput& in, const SolverSetting
   const Model& model = in.model;
   const Springs& springs = model.springs;
   const ImplicitStepProblem problem =
-      ImplicitStepProblem::build(model, in.pins, state, settings.integrator);
+      ImplicitStepProblem::build(model, in.pins, state, in.h, settings.integrator);
   const double h = problem.implicit_h, h2 = h * h;
   factor_cache_.ensure(in.revision, LinearSolver::kEigen, h, [&] { factorize(in, h); });
   const Points constant = globalStepConstant(model, in.pins, dofs_, h, problem.inertial);

@@ -18,7 +18,7 @@ void refuse(const std::string& field, const std::string& value, const std::strin
 
 void XpbdSolver::prepare(const SolverInput& in) {
   const Model& model = in.model;
-  const double h = model.time_step;
+  const double h = in.h;
   if (in.revision == revision_ && h == h_ && particles_ == static_cast<std::size_t>(model.particleCount()) &&
       springs_ == model.springs.size()) {
     return;
@@ -59,7 +59,7 @@ SolveResult XpbdSolver::step(const SolverInput& in, const SolverSettings& settin
   prepare(in);
   state.has_previous = false;  // no implicit step's history
   const Model& model = in.model;
-  const double h = model.time_step, decay = velocityDecay(model);
+  const double h = in.h, decay = velocityDecay(model, h);
   start_ = state.positions;  // a member: no allocation per substep
   const Points& start = start_;
   Points& p = state.positions;

@@ -5,7 +5,7 @@
 
 namespace cloth_sim {
 
-double localGlobalRhoBound(const Model& model) {
+double localGlobalRhoBound(const Model& model, double h) {
   // Linearised, one local/global iteration maps an error e to (M + h^2 L)^-1 B e with
   // 0 <= B <= h^2 L (x) I3 for springs at or above rest length (B keeps the transverse part of
   // each spring's stiffness, scaled by r/l). Its spectral radius is therefore at most
@@ -18,13 +18,13 @@ double localGlobalRhoBound(const Model& model) {
   }
   double ratio = 0.0;
   for (int i = 0; i < model.particleCount(); ++i) ratio = std::max(ratio, 2.0 * degree[i] / model.mass[i]);
-  const double mu = model.time_step * model.time_step * ratio;
+  const double mu = h * h * ratio;
   return mu / (1.0 + mu);
 }
 
 void ChebyshevAcceleration::begin(const SolverInput& in, const SolverSettings& settings) {
   if (settings.chebyshev_rho > 0.0) rho_ = settings.chebyshev_rho;
-  else rho_cache_.ensure(in.revision, [&] { rho_ = localGlobalRhoBound(in.model); });
+  else rho_cache_.ensure(in.revision, [&] { rho_ = localGlobalRhoBound(in.model, in.h); });
   gamma_ = settings.chebyshev_gamma;
   delay_ = settings.chebyshev_delay;
   omega_ = 1.0;

@@ -90,7 +90,7 @@ void LbfgsSolver::pushPair(const Point& from, const Point& to, int window) {
 
 SolveResult LbfgsSolver::step(const SolverInput& in, const SolverSettings& settings,
                               State& state) {
-  const SolverInput without_contacts{in.model, in.pins, in.revision, nullptr};
+  const SolverInput without_contacts{in.model, in.pins, in.h, in.revision, nullptr};
   factorizations_ += problem_.begin(without_contacts, settings, state);
   hooks_.clearTrace();
   clearHistory();

@@ -60,7 +60,7 @@ int LocalGlobalProblem::factorize(const SolverInput& in, LinearSolver backend, d
 int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& settings,
                               const State& state) {
   const Model& model = in.model;
-  problem_ = ImplicitStepProblem::build(model, in.pins, state, settings.integrator);
+  problem_ = ImplicitStepProblem::build(model, in.pins, state, in.h, settings.integrator);
   h_ = problem_.implicit_h;
   int factorizations = 0;
   factor_cache_.ensure(in.revision, settings.linear_solver, h_, [&] {

@@ -12,7 +12,7 @@ namespace {
 TEST(LocalGlobal3n, SameIteratesAsTheScalarFactor) {
   // A hard pin, a soft pin and a moving target: every term of the right-hand side.
   BuiltObject g = test::makeGrid(7, 6, 300.0, 30.0, 3.0);
-  g.model.time_step = 1.0 / 30.0;
+  const double h = 1.0 / 30.0;
   g.model.damping = 0.2;
   PinSet pins;
   const int hard = pins.add(0, g.rest_positions.col(0), 0.0, 42);
@@ -23,8 +23,8 @@ TEST(LocalGlobal3n, SameIteratesAsTheScalarFactor) {
   EXPECT_STREQ(blocked.name(), "local_global_3n");
   for (int k = 0; k < 25; ++k) {
     pins.moveTarget(hard, g.rest_positions.col(0) + Vec3(0.01 * k, 0.0, 0.0));
-    const SolveResult ra = scalar.step({g.model, pins, 1}, test::convergedSettings(7, 0.0), a);
-    const SolveResult rb = blocked.step({g.model, pins, 1}, test::convergedSettings(7, 0.0), b);
+    const SolveResult ra = scalar.step({g.model, pins, h, 1}, test::convergedSettings(7, 0.0), a);
+    const SolveResult rb = blocked.step({g.model, pins, h, 1}, test::convergedSettings(7, 0.0), b);
     EXPECT_NEAR(ra.convergence, rb.convergence, 1e-9);
   }
   EXPECT_LT((a.positions - b.positions).norm(), 1e-10 * a.positions.norm());

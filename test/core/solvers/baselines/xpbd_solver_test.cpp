@@ -27,7 +27,7 @@ double chainStretchError(int n, double m, double k, int substeps) {
   Model model;
   model.mass = Eigen::VectorXd::Constant(n + 1, m);
   model.damping = 5.0;
-  model.time_step = 1.0 / 60.0 / substeps;
+  const double h = 1.0 / 60.0 / substeps;
   Points rest(3, n + 1);
   for (int i = 0; i <= n; ++i) {
     rest.col(i) = Vec3(0.0, 0.0, -0.1 * i);
@@ -38,7 +38,7 @@ double chainStretchError(int n, double m, double k, int substeps) {
   XpbdSolver solver;
   State state = State::atRest(rest);
   const int steps = 20 * 60 * substeps;
-  for (int s = 0; s < steps; ++s) solver.step({model, pins, 1}, sweeps(1), state);
+  for (int s = 0; s < steps; ++s) solver.step({model, pins, h, 1}, sweeps(1), state);
   EXPECT_EQ(state.positions.col(0), Vec3::Zero());  // infinite mass: exactly on its target
   double worst = 0.0;
   for (int j = 1; j <= n; ++j) {

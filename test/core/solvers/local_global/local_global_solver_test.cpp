@@ -31,15 +31,15 @@ struct SwingingCloth {
   BuiltObject g = test::makeGrid(6, 6, 200.0, 20.0, 2.0);
   PinSet pins;
   State state;
+  static constexpr double kH = 1.0 / 60.0;  ///< s, the step
   SwingingCloth() {
-    g.model.time_step = 1.0 / 60.0;
     pins.add(0, g.rest_positions.col(0), 0.0, 36);
     pins.add(5, g.rest_positions.col(5), 150.0, 36);
     state = State::atRest(g.rest_positions);
     LocalGlobalSolver warmup;
-    for (int k = 0; k < 15; ++k) warmup.step({g.model, pins, 1}, SolverSettings{}, state);
+    for (int k = 0; k < 15; ++k) warmup.step({g.model, pins, kH, 1}, SolverSettings{}, state);
   }
-  SolverInput input() const { return {g.model, pins, 1}; }
+  SolverInput input() const { return {g.model, pins, kH, 1}; }
 };
 
 /// Relative position error |x - x*| / |y - x*| of @p solver run to convergence on the step of
@@ -48,7 +48,7 @@ double convergedErrorAgainstNewton(Solver& solver, const SwingingCloth& c) {
   State reference = c.state;
   NewtonSolver newton;
   EXPECT_TRUE(newton.step(c.input(), test::convergedSettings(1000, 1e-14), reference).converged);
-  const Points y = ImplicitStepProblem::build(c.g.model, c.pins, c.state).inertial;
+  const Points y = ImplicitStepProblem::build(c.g.model, c.pins, c.state, c.kH).inertial;
   State s = c.state;
   EXPECT_TRUE(solver.step(c.input(), test::convergedSettings(100000, 1e-14), s).converged);
   return (s.positions - reference.positions).norm() / (y - reference.positions).norm();
@@ -89,11 +89,11 @@ TEST(LocalGlobal, FactorKeptAcrossStepsAndTargetMoves) {
   State s = c.state;
   for (int k = 0; k < 30; ++k) {
     c.pins.moveTarget(c.pins.pins()[0].id, c.g.rest_positions.col(0) + Vec3(0.01 * k, 0, 0));
-    lg.step({c.g.model, c.pins, 7}, SolverSettings{}, s);
+    lg.step({c.g.model, c.pins, c.kH, 7}, SolverSettings{}, s);
   }
   EXPECT_EQ(lg.factorizationCount(), 1);
-  lg.step({c.g.model, c.pins, 8}, SolverSettings{}, s);  // a new revision: refactor once
-  lg.step({c.g.model, c.pins, 8}, SolverSettings{}, s);
+  lg.step({c.g.model, c.pins, c.kH, 8}, SolverSettings{}, s);  // a new revision: refactor once
+  lg.step({c.g.model, c.pins, c.kH, 8}, SolverSettings{}, s);
   EXPECT_EQ(lg.factorizationCount(), 2);
 }
 

@@ -43,7 +43,7 @@ class XpbdSolver final : public Solver {
   /// Throws std::invalid_argument naming the field for solver.integrator = bdf2 or
   /// implicit_midpoint, solver.tolerance > 0 or solver.warm_start = true.
   void requireSettings(const SolverSettings& settings) const override;
-  /// One step of model.time_step (requireSettings first).
+  /// One step of SolverInput::h (requireSettings first).
   SolveResult step(const SolverInput& input, const SolverSettings& settings,
                    State& state) override;
 

@@ -9,16 +9,17 @@
 namespace cloth_sim {
 
 /// An upper bound on the spectral radius of local/global near a solution (springs at or above
-/// their rest length): mu / (1 + mu) with mu = h^2 max_i 2 d_i / m_i, d_i the summed stiffness
-/// of particle i's springs (N/m), m_i its mass (kg). E.g. 0.9998 for the 32 x 32 hanging cloth.
-double localGlobalRhoBound(const Model& model);
+/// their rest length) for a step of @p h s: mu / (1 + mu) with mu = h^2 max_i 2 d_i / m_i, d_i
+/// the summed stiffness of particle i's springs (N/m), m_i its mass (kg). E.g. 0.9998 for the
+/// 32 x 32 hanging cloth.
+double localGlobalRhoBound(const Model& model, double h);
 
 /// Chebyshev semi-iterative extrapolation of the local/global iterates (Wang 2015):
 ///   x_{k+1} = omega_{k+1} (gamma (xhat_{k+1} - x_k) + x_k - x_{k-1}) + x_{k-1},
 ///   omega = 1 for the first S iterations, 2 / (2 - rho^2) at S, then 4 / (4 - rho^2 omega)
 /// (S = SolverSettings::chebyshev_delay, gamma = chebyshev_gamma). With chebyshev_rho = 0, rho
-/// is the bound localGlobalRhoBound, recomputed when the revision changes (a stiffness, a mass
-/// or h). A restart (the driver's safeguard) begins the S plain iterations again.
+/// is the bound localGlobalRhoBound at SolverInput::h, recomputed when the revision changes (a
+/// stiffness, a mass or h). A restart (the driver's safeguard) begins the S plain iterations again.
 class ChebyshevAcceleration final : public Acceleration {
  public:
   void begin(const SolverInput& input, const SolverSettings& settings) override;

@@ -50,7 +50,7 @@ class GlobalSystem {
 /// The global step's matrix M + h^2 L_scalar (+ h^2 k on soft-pinned particles) over the free
 /// particles of @p dofs, in free-index order. A spring to a hard-pinned particle keeps only its
 /// diagonal term; its coupling goes to the right-hand side (globalStepConstant). @p h is the
-/// implicit step h_i of ImplicitStepProblem (s): model.time_step for implicit Euler, 2/3 of it
+/// implicit step h_i of ImplicitStepProblem (s): SolverInput::h for implicit Euler, 2/3 of it
 /// for BDF2.
 Eigen::SparseMatrix<double> globalStepMatrix(const Model& model, const PinSet& pins,
                                              const FreeParticleMap& dofs, double h);
