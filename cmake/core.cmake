@@ -32,6 +32,7 @@ add_library(cloth_sim_core
   src/core/solvers/registry.cpp
   src/core/solvers/implicit_euler_problem.cpp
   src/core/solvers/pin_reactions.cpp
+  src/core/solvers/midpoint_safeguard.cpp
   src/core/solvers/newton_solver.cpp
   src/core/solvers/local_global/local_step.cpp
   src/core/solvers/local_global/global_system.cpp
@@ -81,7 +82,7 @@ if(CATKIN_ENABLE_TESTING)
     collision/cell_hash_test collision/triangle_intersection_test collision/self_contact_test
     collision/self_contact_scenes_test
     solvers/implicit_euler_problem_test solvers/newton_solver_test solvers/revision_cache_test
-    solvers/bdf2_test solvers/midpoint_test
+    solvers/bdf2_test solvers/midpoint_test solvers/midpoint_safeguard_test
     solvers/local_global/local_step_test solvers/local_global/global_system_test
     solvers/local_global/local_global_solver_test
     solvers/baselines/explicit_solvers_test solvers/baselines/local_global_3n_solver_test

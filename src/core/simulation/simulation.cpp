@@ -59,7 +59,7 @@ Simulation::Simulation(Model model, const Points& rest_positions, PinSet pins, C
   initial_state_ = state_;
   initial_pins_ = pins_;
   initial_colliders_ = colliders_;
-  solver_ = makeSolver(options_.solver);
+  solver_ = std::make_unique<MidpointSafeguard>(makeSolver(options_.solver));
   rebuildMovableMask();
   const auto& rest = model_.springs.rest_length;
   shortest_rest_length_ = rest.empty() ? std::numeric_limits<double>::infinity()
@@ -195,83 +195,16 @@ void Simulation::substep(const PinSet& pins, StepReport& report) {
   }
 }
 
-namespace {
-
-/// Kinetic energy 1/2 v^T M v of @p state (J).
-double kineticEnergy(const Model& model, const State& state) {
-  return 0.5 * (state.velocities.colwise().squaredNorm() * model.mass)(0);
-}
-
-/// Energies of a state (J) for the midpoint safeguard.
-struct StateEnergy {
-  double mechanical;  ///< kinetic + springs
-  double total;       ///< mechanical + gravity and soft pins
-};
-
-/// The energy of @p state as Simulation::totalEnergy, but without the hard-pinned particles'
-/// kinetic energy: their velocity is prescribed (a pin teleported by 1 m in one step moves at
-/// 1 m / h), not energy the cloth can use.
-StateEnergy stateEnergy(const Model& model, const PinSet& pins, const State& state) {
-  double kinetic = kineticEnergy(model, state);
-  for (const Pin& pin : pins.pins()) {
-    if (pin.isHard())
-      kinetic -= 0.5 * model.mass[pin.vertex] * state.velocities.col(pin.vertex).squaredNorm();
-  }
-  const double mechanical = kinetic + springEnergy(model.springs, state.positions);
-  return {mechanical, mechanical + externalPotential(model, pins, state.positions)};
-}
-
-/// The implicit midpoint safeguard's tolerance: a step may gain this fraction of the kinetic
-/// plus spring energy at its start (J / J), plus kMidpointGainFloor times m |g| (J / N, i.e.
-/// m) so that a cloth released at rest is not held to its exact energy.
-constexpr double kMidpointGain = 1e-2;
-constexpr double kMidpointGainFloor = 1e-4;
-
-}  // namespace
-
 SolveResult Simulation::solve(const SolverInput& input, StepReport& report) {
   const auto t_solve = std::chrono::steady_clock::now();
-  if (options_.settings.integrator != Integrator::kImplicitMidpoint) {
-    const SolveResult solved = solver_->step(input, options_.settings, state_);
-    return finishSolve(solved, t_solve, report);
-  }
-  // Implicit midpoint safeguard. Without moving pins the energy of a step cannot grow (the
-  // damping only removes it); a converged midpoint step keeps it to O(h^2) and an
-  // under-iterated one loses some. Plain midpoint on stiff cloth at large steps gains energy
-  // step after step until it explodes (benchmark.md, "Stability"): a step that gains more than
-  // the tolerance is redone as two implicit Euler steps of h/2. A growth slower than the
-  // tolerance per step is not caught (kept as measured: a running budget caught it, but also
-  // fired on the peers' cloth and cost it most of its energy).
-  const State before = state_;
-  const StateEnergy energy_before = stateEnergy(input.model, input.pins, state_);
-  SolveResult solved = solver_->step(input, options_.settings, state_);
-  const double allowed = kMidpointGain * energy_before.mechanical +
-                         kMidpointGainFloor * input.model.mass.sum() * input.model.gravity.norm();
-  if (stateEnergy(input.model, input.pins, state_).total - energy_before.total > allowed) {
-    // Two implicit Euler steps of h/2: their matrix is the midpoint's, M + (h/2)^2 L (same
-    // revision and h_i, so no refactorization), and implicit Euler is L-stable. Contacts are
-    // left to the projection after the step, as under midpoint.
-    state_ = before;
-    SolverSettings euler = options_.settings;
-    euler.integrator = Integrator::kImplicitEuler;
-    const SolverInput half{input.model, input.pins, 0.5 * input.h, input.revision, nullptr};
-    solver_->step(half, euler, state_);
-    solved = solver_->step(half, euler, state_);
-    state_.time = before.time + input.h;
-    ++report.midpoint_fallbacks;
-  }
-  return finishSolve(solved, t_solve, report);
-}
-
-SolveResult Simulation::finishSolve(const SolveResult& solved,
-                                    std::chrono::steady_clock::time_point t_solve,
-                                    StepReport& report) {
+  const SolveResult solved = solver_->step(input, options_.settings, state_);
   report.solve_time +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_solve).count();
   ++report.substeps;
   report.iterations = solved.iterations;
   report.convergence = solved.convergence;
   report.converged = solved.converged;
+  if (solved.midpoint_fallback) ++report.midpoint_fallbacks;
   return solved;
 }
 
@@ -324,7 +257,7 @@ void Simulation::reset() {
   state_ = initial_state_;
   // A fresh solver and warm start: nothing of the run before leaks into the one after.
   retired_factorizations_ += solver_->factorizationCount();
-  solver_ = makeSolver(options_.solver);
+  solver_ = std::make_unique<MidpointSafeguard>(makeSolver(options_.solver));
   contacts_ = ContactForces();
   grasps_.clear();
   if (pins_.size() != initial_pins_.size()) ++revision_;
@@ -451,7 +384,7 @@ void Simulation::setSolver(const std::string& name) {
   std::unique_ptr<Solver> next = makeSolver(name);
   next->requireSettings(options_.settings);
   retired_factorizations_ += solver_->factorizationCount();
-  solver_ = std::move(next);
+  solver_ = std::make_unique<MidpointSafeguard>(std::move(next));
   options_.solver = name;
 }
 

@@ -50,6 +50,10 @@ double externalPotential(const Model& model, const PinSet& pins, const Points& x
   return potential;
 }
 
+double kineticEnergy(const Model& model, const State& state) {
+  return 0.5 * (state.velocities.colwise().squaredNorm() * model.mass)(0);
+}
+
 double ImplicitStepProblem::objective(const Points& x) const {
   return objective(x, springEnergy(model->springs, x));
 }

@@ -15,6 +15,7 @@
 #include "cloth_sim/core/model/model.h"
 #include "cloth_sim/core/model/pins.h"
 #include "cloth_sim/core/simulation/grasp.h"
+#include "cloth_sim/core/solvers/midpoint_safeguard.h"
 #include "cloth_sim/core/solvers/pin_reactions.h"
 #include "cloth_sim/core/solvers/solver.h"
 
@@ -50,7 +51,7 @@ struct StepReport {
   double intersection_time = 0.0;  ///< s of wall time in the intersection counter
   double max_strain = 0.0;   ///< max |l - r| / r over the springs after the step
   /// Substeps of this frame whose implicit midpoint step gained energy and were redone as two
-  /// implicit Euler steps of h/2 (the safeguard, docs/method.md "Implicit midpoint").
+  /// implicit Euler steps of h/2 (MidpointSafeguard, docs/method.md "Implicit midpoint").
   int midpoint_fallbacks = 0;
   std::string message;       ///< empty when ok; otherwise what went wrong and what was done
 };
@@ -167,7 +168,9 @@ class Simulation {
   /// The grasp with @p id, or nullptr.
   const Grasp* findGrasp(int id) const;
   const Colliders& colliders() const { return colliders_; }
-  const Solver& solver() const { return *solver_; }
+  /// The solver in use, by the name it was chosen with (the midpoint safeguard around it is
+  /// not a solver of its own).
+  const Solver& solver() const { return solver_->inner(); }
   const SolverSettings& solverSettings() const { return options_.settings; }
   const SimulationOptions& options() const { return options_; }
   /// Index of the particle nearest to @p point (m).
@@ -202,9 +205,6 @@ class Simulation {
   void substep(const PinSet& pins, StepReport& report);
   /// The solver's step on @p input, its iterations and time added to @p report.
   SolveResult solve(const SolverInput& input, StepReport& report);
-  /// Adds the solve's time (since @p t_solve), iterations and convergence to @p report.
-  SolveResult finishSolve(const SolveResult& solved, std::chrono::steady_clock::time_point t_solve,
-                          StepReport& report);
   /// A pin's target this frame: from where it stood at the end of the last frame to where it
   /// stands at the end of this one (at most maxPinMove() from there).
   struct PinPath {
@@ -236,7 +236,7 @@ class Simulation {
   PinSet pins_, initial_pins_;
   Colliders colliders_, initial_colliders_;
   SimulationOptions options_;
-  std::unique_ptr<Solver> solver_;
+  std::unique_ptr<MidpointSafeguard> solver_;  ///< the user's solver, in the safeguard
   int retired_factorizations_ = 0;
   std::uint64_t revision_ = 1;
   std::vector<char> movable_;  ///< false for hard-pinned particles (collisions skip them)

@@ -82,4 +82,7 @@ void totalForces(const Model& model, const PinSet& pins, const Points& x, Points
 /// Potential energy of the external and pin forces: soft pins 1/2 k |x - t|^2 minus sum m g.x (J).
 double externalPotential(const Model& model, const PinSet& pins, const Points& x);
 
+/// Kinetic energy 1/2 v^T M v of @p state (J).
+double kineticEnergy(const Model& model, const State& state);
+
 }  // namespace cloth_sim

@@ -108,6 +108,9 @@ struct SolveResult {
   /// The solver solved SolverInput::contacts with the step (local_global, chebyshev and
   /// anderson do when given contacts; the others never do).
   bool used_contacts = false;
+  /// The step gained energy under implicit midpoint and was redone as two implicit Euler steps
+  /// of h/2 (MidpointSafeguard; no bare solver sets it).
+  bool midpoint_fallback = false;
 };
 
 class ContactForces;
@@ -154,7 +157,8 @@ class Solver {
   /// integrator (requireIntegrator).
   virtual void requireSettings(const SolverSettings& settings) const;
   /// Sparse matrix factorizations done so far (numeric ones; Newton does one per iteration).
-  int factorizationCount() const { return factorizations_; }
+  /// Virtual for a wrapper (MidpointSafeguard), which counts its inner solver's.
+  virtual int factorizationCount() const { return factorizations_; }
 
  protected:
   int factorizations_ = 0;
