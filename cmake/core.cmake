@@ -45,6 +45,10 @@ add_library(cloth_sim_core
   src/core/solvers/baselines/explicit_solvers.cpp
   src/core/solvers/baselines/local_global_3n_solver.cpp
   src/core/solvers/baselines/xpbd_solver.cpp
+  src/core/simulation/step_report.cpp
+  src/core/simulation/grasp_set.cpp
+  src/core/simulation/frame_inputs.cpp
+  src/core/simulation/substep.cpp
   src/core/simulation/simulation.cpp
   src/core/simulation/frame_budget.cpp
   src/core/io/scene_reader.cpp
@@ -87,6 +91,7 @@ if(CATKIN_ENABLE_TESTING)
     solvers/local_global/local_global_solver_test
     solvers/baselines/explicit_solvers_test solvers/baselines/local_global_3n_solver_test
     solvers/baselines/xpbd_solver_test
+    simulation/step_report_test simulation/grasp_set_test simulation/frame_inputs_test
     simulation/simulation_test simulation/substeps_test simulation/frame_budget_test
     simulation/grasp_test
     io/scene_test io/bad_scene_random_test

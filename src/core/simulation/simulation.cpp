@@ -4,25 +4,37 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 #include <utility>
 
-#include "cloth_sim/core/collision/sphere_impacts.h"
 #include "cloth_sim/core/model/spring_kernels.h"
 #include "cloth_sim/core/settings/settings_table.h"
 #include "cloth_sim/core/solvers/implicit_euler_problem.h"
 
 namespace cloth_sim {
+namespace {
 
-const char* stepStatusName(StepStatus status) {
-  switch (status) {
-    case StepStatus::kOk: return "ok";
-    case StepStatus::kNonFinite: return "non_finite";
-    case StepStatus::kDiverged: return "diverged";
+/// Whether @p a and @p b pin the same vertices with the same stiffness, in the same order: the
+/// solvers' matrices are then the same.
+bool samePinSet(const PinSet& a, const PinSet& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    const Pin &p = a.pins()[k], &q = b.pins()[k];
+    if (p.vertex != q.vertex || p.stiffness != q.stiffness) return false;
   }
-  return "unknown";
+  return true;
 }
+
+/// Stops every dynamic ball of @p colliders (velocity and spin); kinematic spheres keep theirs.
+void stopDynamicSpheres(Colliders& colliders) {
+  for (SphereCollider& s : colliders.mutableSpheres()) {
+    if (!s.isDynamic()) continue;
+    s.velocity.setZero();
+    s.angular_velocity.setZero();
+  }
+}
+
+}  // namespace
 
 void SimulationOptions::validate() const {
   if (!std::isfinite(frame_time) || frame_time <= 0.0) {
@@ -60,27 +72,29 @@ Simulation::Simulation(Model model, const Points& rest_positions, PinSet pins, C
   initial_pins_ = pins_;
   initial_colliders_ = colliders_;
   solver_ = std::make_unique<MidpointSafeguard>(makeSolver(options_.solver));
-  rebuildMovableMask();
   const auto& rest = model_.springs.rest_length;
   shortest_rest_length_ = rest.empty() ? std::numeric_limits<double>::infinity()
                                        : *std::min_element(rest.begin(), rest.end());
   if (options_.self_contact.enabled) setSelfContact(options_.self_contact);
-  clearLoads();
-  startPinsAtParticles();
+  changed(kPinSet);
+  inputs_.startPinsAt(pins_, state_.positions);
 }
 
-void Simulation::startPinsAtParticles() {
-  frame_targets_.clear();
-  for (const Pin& pin : pins_.pins()) {
-    frame_targets_.emplace_back(pin.id, Vec3(state_.positions.col(pin.vertex)));
+void Simulation::changed(unsigned changes) {
+  if ((changes & (kPinSet | kStiffness | kStepSize | kIntegrator)) != 0) ++revision_;
+  if ((changes & (kPinSet | kStepSize | kRestart)) != 0) state_.has_previous = false;
+  if ((changes & kPinSet) != 0) {
+    movable_.assign(model_.particleCount(), 1);
+    for (const Pin& p : pins_.pins()) {
+      if (p.isHard()) movable_[p.vertex] = 0;
+    }
   }
+  if ((changes & (kPinSet | kRestart)) != 0) pin_loads_.assign(pins_.size(), Vec3::Zero());
 }
 
-void Simulation::rebuildMovableMask() {
-  movable_.assign(model_.particleCount(), 1);
-  for (const Pin& p : pins_.pins()) {
-    if (p.isHard()) movable_[p.vertex] = 0;
-  }
+SubstepWorld Simulation::substepWorld() {
+  return SubstepWorld{model_, options_.settings, movable_,  *solver_, self_contact_.get(),
+                      state_, colliders_,        pin_loads_};
 }
 
 StepReport Simulation::step() {
@@ -88,61 +102,27 @@ StepReport Simulation::step() {
   const State before = state_;
   const Colliders colliders_before = colliders_;
   const int n = options_.settings.substeps;
-  std::vector<PinPath> paths;  // the pins whose target moved since the last frame
-  for (const auto& [id, from] : frame_targets_) {
-    const Pin* pin = pins_.find(id);
-    if (pin != nullptr && pin->target != from) paths.push_back({id, from, towards(from, pin->target)});
-  }
-  const bool pins_moved = !paths.empty();
-  PinSet pins_at = pins_moved ? pins_ : PinSet();
-  applySphereJumps(+1.0);
-  std::vector<std::pair<int, Vec3>> frame_end;  // where each target stands when the frame ends
-  for (const Pin& pin : pins_.pins()) frame_end.emplace_back(pin.id, pin.target);
-  for (const PinPath& path : paths) {
-    for (auto& [id, target] : frame_end) {
-      if (id == path.id) target = path.to;
-    }
-  }
+  const double h = substepTime();
+  inputs_.beginFrame(pins_, maxPinMove(), options_.frame_time, colliders_);
+  const SubstepWorld world = substepWorld();
   StepReport report;
   for (int k = 1; k <= n; ++k) {
-    if (pins_moved) interpolatePins(static_cast<double>(k) / n, paths, pins_at);
     // A grasp's frame is asked where it is at the end of each substep, so a moving gripper
     // carries the cloth continuously, not in one jump a frame.
-    if (!grasps_.empty()) placeGrasps(state_.time + substepTime(), pins_moved ? &pins_at : nullptr);
-    substep(pins_moved ? pins_at : pins_, report);
+    const PinSet& pins = inputs_.pinsAt(k, n, state_.time + h, grasps_, pins_);
+    substep_.run(world, pins, h, revision_, report);
   }
   report.max_strain = maxStrain(model_.springs, state_.positions);
-
-  bool finite = state_.allFinite() && std::isfinite(report.max_strain);
-  for (const SphereCollider& s : colliders_.spheres()) {
-    finite =
-        finite && s.center.allFinite() && s.velocity.allFinite() && s.angular_velocity.allFinite();
-  }
-  if (!finite || report.max_strain > options_.divergence_strain) {
-    std::ostringstream msg;
-    report.status = finite ? StepStatus::kDiverged : StepStatus::kNonFinite;
-    if (finite) {
-      msg << solver_->name() << " diverged: max strain " << report.max_strain << " > limit "
-          << options_.divergence_strain;
-    } else {
-      msg << solver_->name() << " produced a non-finite position or velocity";
-    }
-    msg << " at t = " << before.time << " s; rolled back to that state with zero velocities"
-        << " (cloth and dynamic spheres)";
-    report.message = msg.str();
+  report.status = frameStatus(state_, colliders_, report.max_strain, options_.divergence_strain);
+  const bool kept = report.status == StepStatus::kOk;
+  if (!kept) {
+    report.message = rollbackMessage(report.status, solver_->name(), report.max_strain,
+                                     options_.divergence_strain, before.time);
     rollBack(before, colliders_before);
-    clearLoads();
     report.max_strain = maxStrain(model_.springs, state_.positions);
-  } else {
-    applySphereJumps(-1.0);
   }
-  updateGraspWrenches();
-  sphere_jumps_.clear();
-  // A grasp's pins follow its frame (placeGrasps), not the speed limit of the user's moves.
-  for (auto& [id, target] : frame_end) {
-    if (isGrasped(id)) target = pins_.find(id)->target;
-  }
-  frame_targets_ = std::move(frame_end);
+  inputs_.endFrame(kept, pins_, grasps_, options_.frame_time, colliders_);
+  grasps_.updateWrenches(pins_, pin_loads_, state_.positions);
   if (self_contact_) {
     const auto t_count = std::chrono::steady_clock::now();
     report.intersections = countIntersections();
@@ -153,66 +133,6 @@ StepReport Simulation::step() {
   return report;
 }
 
-void Simulation::substep(const PinSet& pins, StepReport& report) {
-  const double h = substepTime();
-  const bool loads = !pins.empty();
-  if (loads) {
-    reactions_.begin(SolverInput{model_, pins, h, revision_}, state_, options_.settings.integrator);
-  }
-  if (colliders_.empty() && !self_contact_) {  // nothing to collide with: no start state to keep
-    solve(SolverInput{model_, pins, h, revision_, nullptr}, report);
-    if (loads) reactions_.finish(model_, pins, state_.positions, pin_loads_);
-    return;
-  }
-  const Points start = state_.positions, start_velocities = state_.velocities;
-  colliders_.advance(h, model_.gravity, velocityDecay(model_, h));
-  const CollisionStep collision{h, model_.mass, movable_, start, &start_velocities, model_.gravity};
-  contacts_.beginStep(collision, colliders_);
-  const SolveResult solved = solve(SolverInput{model_, pins, h, revision_, &contacts_}, report);
-  // The loads of the solve itself, before the collision response moves soft-pinned particles.
-  if (loads) reactions_.finish(model_, pins, state_.positions, pin_loads_);
-  // Only a solver that solved the contacts this step has fresh ball positions to hand over.
-  if (solved.used_contacts) {
-    contacts_.finish(colliders_);
-    report.contacts += contacts_.activeCount();
-  }
-  const auto t_self = std::chrono::steady_clock::now();
-  // The bound before the colliders: a collider's own correction is never shortened.
-  if (self_contact_) {
-    report.self_contacts +=
-        self_contact_->limitDisplacement(collision, state_.positions, state_.velocities);
-  }
-  auto self_time = std::chrono::steady_clock::now() - t_self;
-  report.contacts += resolveCollisions(collision, colliders_, state_.positions, state_.velocities,
-                                       solved.used_contacts);
-  report.contacts += resolveSphereImpacts(colliders_, 2.0 * model_.gravity.norm() * h);
-  if (self_contact_) {
-    const auto t_resolve = std::chrono::steady_clock::now();
-    report.self_contacts += self_contact_->resolve(collision, colliders_.ground(), state_.positions,
-                                                   state_.velocities);
-    self_time += std::chrono::steady_clock::now() - t_resolve;
-    report.self_contact_time += std::chrono::duration<double>(self_time).count();
-  }
-}
-
-SolveResult Simulation::solve(const SolverInput& input, StepReport& report) {
-  const auto t_solve = std::chrono::steady_clock::now();
-  const SolveResult solved = solver_->step(input, options_.settings, state_);
-  report.solve_time +=
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_solve).count();
-  ++report.substeps;
-  report.iterations = solved.iterations;
-  report.convergence = solved.convergence;
-  report.converged = solved.converged;
-  if (solved.midpoint_fallback) ++report.midpoint_fallbacks;
-  return solved;
-}
-
-void Simulation::interpolatePins(double s, const std::vector<PinPath>& paths,
-                                 PinSet& pins_at) const {
-  for (const PinPath& path : paths) pins_at.moveTarget(path.id, path.from + s * (path.to - path.from));
-}
-
 double Simulation::maxPinMove() const {
   // A target jumping d in one implicit step stretches the springs of its particle by at most
   // d / r before the cloth follows: keeping that a tenth of divergence_strain keeps a drag,
@@ -220,37 +140,13 @@ double Simulation::maxPinMove() const {
   return options_.settings.substeps * shortest_rest_length_ * options_.divergence_strain / 10.0;
 }
 
-Vec3 Simulation::towards(const Vec3& from, const Vec3& target) const {
-  const Vec3 way = target - from;
-  const double distance = way.norm(), limit = maxPinMove();
-  return distance <= limit ? target : Vec3(from + way * (limit / distance));
-}
-
-void Simulation::applySphereJumps(double sign) {
-  for (const SphereJump& jump : sphere_jumps_) {
-    const SphereCollider* s = colliders_.findSphere(jump.id);
-    if (s == nullptr) continue;
-    colliders_.moveSphere(jump.id, s->center, s->velocity + sign * jump.displacement / frameTime());
-  }
-}
-
 void Simulation::rollBack(const State& state, const Colliders& colliders) {
   state_ = state;
   state_.velocities.setZero();
-  state_.has_previous = false;  // a restart: BDF2's next step is an implicit Euler step
   colliders_ = colliders;
-  for (SphereCollider& s : colliders_.mutableSpheres()) {
-    if (!s.isDynamic()) continue;
-    s.velocity.setZero();
-    s.angular_velocity.setZero();
-  }
-  // The user's sphere moves of this frame stand: those spheres go where they were sent.
-  for (const SphereJump& jump : sphere_jumps_) {
-    if (const SphereCollider* s = colliders_.findSphere(jump.id)) {
-      colliders_.moveSphere(jump.id, s->center + jump.displacement, s->velocity);
-    }
-  }
-  contacts_ = ContactForces();  // forget the warm start that led there
+  stopDynamicSpheres(colliders_);
+  substep_.forgetContacts();  // forget the warm start that led there
+  changed(kRestart);          // BDF2's next step is an implicit Euler step; no loads
 }
 
 void Simulation::reset() {
@@ -258,46 +154,30 @@ void Simulation::reset() {
   // A fresh solver and warm start: nothing of the run before leaks into the one after.
   retired_factorizations_ += solver_->factorizationCount();
   solver_ = std::make_unique<MidpointSafeguard>(makeSolver(options_.solver));
-  contacts_ = ContactForces();
+  substep_.forgetContacts();
   grasps_.clear();
-  if (pins_.size() != initial_pins_.size()) ++revision_;
-  else {
-    for (std::size_t k = 0; k < pins_.size(); ++k) {
-      const Pin &a = pins_.pins()[k], &b = initial_pins_.pins()[k];
-      if (a.vertex != b.vertex || a.stiffness != b.stiffness) {
-        ++revision_;
-        break;
-      }
-    }
-  }
+  const bool same_pins = samePinSet(pins_, initial_pins_);
   pins_ = initial_pins_;
   colliders_ = initial_colliders_;
-  startPinsAtParticles();
-  sphere_jumps_.clear();
-  rebuildMovableMask();
-  clearLoads();
+  inputs_.startPinsAt(pins_, state_.positions);
+  inputs_.clearSphereJumps();
+  changed(same_pins ? kRestart : kRestart | kPinSet);
 }
 
 void Simulation::resetCloth() {
   state_ = initial_state_;
-  for (SphereCollider& s : colliders_.mutableSpheres()) {
-    if (!s.isDynamic()) continue;
-    s.velocity.setZero();
-    s.angular_velocity.setZero();
-  }
-  sphere_jumps_.clear();
-  contacts_ = ContactForces();  // forget the warm start that led to the divergence
-  startPinsAtParticles();
+  stopDynamicSpheres(colliders_);
+  inputs_.clearSphereJumps();
+  substep_.forgetContacts();  // forget the warm start that led to the divergence
+  inputs_.startPinsAt(pins_, state_.positions);
+  changed(kRestart);
 }
 
 int Simulation::addPin(int vertex, const Vec3& target, double stiffness) {
   const int id = pins_.add(vertex, target, stiffness, model_.particleCount());
   // The target is reached from where the particle is, at the pins' speed limit.
-  frame_targets_.emplace_back(id, Vec3(state_.positions.col(vertex)));
-  ++revision_;
-  state_.has_previous = false;  // the new pin's particle has no BDF2 history on its target
-  rebuildMovableMask();
-  clearLoads();
+  inputs_.addPin(id, state_.positions.col(vertex));
+  changed(kPinSet);
   return id;
 }
 
@@ -309,40 +189,30 @@ int Simulation::addPinHere(int vertex, double stiffness) {
 }
 
 void Simulation::removePin(int id) {
-  requireNotGrasped(id, "removed");
+  grasps_.requireNotGrasped(id, "removed");
   pins_.remove(id);
-  ++revision_;
-  state_.has_previous = false;
-  rebuildMovableMask();
-  clearLoads();
+  changed(kPinSet);
 }
 
 void Simulation::movePin(int id, const Vec3& target) {
-  requireNotGrasped(id, "moved");
+  grasps_.requireNotGrasped(id, "moved");
   pins_.moveTarget(id, target);
 }
 
-int Simulation::addSphere(const SphereCollider& sphere) { return colliders_.addSphere(sphere); }
-
-void Simulation::removeSphere(int id) { colliders_.removeSphere(id); }
-
-void Simulation::moveSphere(int id, const Vec3& center, const Vec3& velocity) {
-  const SphereCollider* s = colliders_.findSphere(id);
-  const Vec3 from = s != nullptr ? s->center : center;
-  colliders_.moveSphere(id, center, velocity);         // validates; throws for an unknown id
-  if (colliders_.findSphere(id)->isDynamic()) return;  // a ball is placed at once
-  // A kinematic sphere goes there across the next frame's substeps, sweeping the cloth.
-  colliders_.moveSphere(id, from, velocity);
-  for (SphereJump& jump : sphere_jumps_) {
-    if (jump.id == id) {
-      jump.displacement = center - from;
-      return;
-    }
-  }
-  sphere_jumps_.push_back({id, center - from});
+int Simulation::addGrasp(const std::vector<int>& vertices, const Pose& pose) {
+  const int id = grasps_.add(vertices, pose, state_.positions, pins_);
+  changed(kPinSet);
+  return id;
 }
 
-void Simulation::setGround(const GroundPlane& ground) { colliders_.setGround(ground); }
+void Simulation::removeGrasp(int id) {
+  grasps_.remove(id, pins_);
+  changed(kPinSet);
+}
+
+void Simulation::moveSphere(int id, const Vec3& center, const Vec3& velocity) {
+  inputs_.moveSphere(colliders_, id, center, velocity);
+}
 
 void Simulation::setFamilyStiffness(SpringFamily family, double stiffness) {
   const Setting& rule = family == SpringFamily::kStructural ? settings::kStructuralStiffness
@@ -358,7 +228,7 @@ void Simulation::setFamilyStiffness(SpringFamily family, double stiffness) {
   }
   if (model_.familyStiffness(family) == stiffness) return;
   model_.setFamilyStiffness(family, stiffness);
-  ++revision_;
+  changed(kStiffness);
 }
 
 void Simulation::setDamping(double damping) {
@@ -376,8 +246,7 @@ void Simulation::setTimeStep(double h) {
   }
   if (h == options_.frame_time) return;
   options_.frame_time = h;
-  ++revision_;
-  state_.has_previous = false;  // BDF2's history is for the old step
+  changed(kStepSize);
 }
 
 void Simulation::setSolver(const std::string& name) {
@@ -391,12 +260,11 @@ void Simulation::setSolver(const std::string& name) {
 void Simulation::setSolverSettings(const SolverSettings& settings) {
   settings.validate();
   solver_->requireSettings(settings);
-  if (settings.substeps != options_.settings.substeps) {
-    ++revision_;
-    state_.has_previous = false;
-  }
-  if (settings.integrator != options_.settings.integrator) ++revision_;  // another matrix
+  unsigned changes = 0;
+  if (settings.substeps != options_.settings.substeps) changes |= kStepSize;
+  if (settings.integrator != options_.settings.integrator) changes |= kIntegrator;
   options_.settings = settings;
+  changed(changes);
 }
 
 void Simulation::setSelfContact(const SelfContactSettings& settings) {
@@ -423,117 +291,6 @@ int Simulation::nearestParticle(const Vec3& point) const {
 double Simulation::totalEnergy() const {
   return kineticEnergy(model_, state_) + springEnergy(model_.springs, state_.positions) +
          externalPotential(model_, pins_, state_.positions);
-}
-
-int Simulation::factorizationCount() const {
-  return retired_factorizations_ + solver_->factorizationCount();
-}
-
-}  // namespace cloth_sim
-
-// --- grasps ----------------------------------------------------------------------------------
-namespace cloth_sim {
-
-void Simulation::clearLoads() { pin_loads_.assign(pins_.size(), Vec3::Zero()); }
-
-const Grasp* Simulation::graspOf(int pin_id) const {
-  for (const Grasp& g : grasps_) {
-    if (std::find(g.pin_ids.begin(), g.pin_ids.end(), pin_id) != g.pin_ids.end()) return &g;
-  }
-  return nullptr;
-}
-
-void Simulation::requireNotGrasped(int id, const char* what) const {
-  if (const Grasp* g = graspOf(id)) {
-    throw std::invalid_argument("pin " + std::to_string(id) + " belongs to grasp " +
-                                std::to_string(g->id) + " and cannot be " + what +
-                                " on its own (release the grasp)");
-  }
-}
-
-const Grasp* Simulation::findGrasp(int id) const {
-  for (const Grasp& g : grasps_) {
-    if (g.id == id) return &g;
-  }
-  return nullptr;
-}
-
-int Simulation::addGrasp(const std::vector<int>& vertices, const Pose& pose) {
-  if (vertices.empty()) throw std::invalid_argument("grasp: no particle to hold");
-  if (!pose.matrix().allFinite()) throw std::invalid_argument("grasp: the frame's pose is not finite");
-  const int n = model_.particleCount();
-  for (std::size_t k = 0; k < vertices.size(); ++k) {
-    const int v = vertices[k];
-    if (v < 0 || v >= n) {
-      throw std::invalid_argument("grasp: vertex " + std::to_string(v) + " is out of range [0, " +
-                                  std::to_string(n) + ")");
-    }
-    if (const Pin* pin = pins_.findByVertex(v)) {
-      throw std::invalid_argument("grasp: vertex " + std::to_string(v) + " is already pinned (pin " +
-                                  std::to_string(pin->id) + ")");
-    }
-    for (std::size_t j = 0; j < k; ++j) {
-      if (vertices[j] == v) {
-        throw std::invalid_argument("grasp: vertex " + std::to_string(v) + " is listed twice");
-      }
-    }
-  }
-  // Checked above, so adding the pins cannot fail half way.
-  Grasp g;
-  g.id = next_grasp_id_++;
-  g.vertices = vertices;
-  g.pose = pose;
-  g.local.resize(3, static_cast<Eigen::Index>(vertices.size()));
-  const Pose to_local = pose.inverse();
-  for (std::size_t k = 0; k < vertices.size(); ++k) {
-    const Vec3 x = state_.positions.col(vertices[k]);
-    g.local.col(static_cast<Eigen::Index>(k)) = to_local * x;
-    g.pin_ids.push_back(pins_.add(vertices[k], x, 0.0, n));
-  }
-  grasps_.push_back(std::move(g));
-  ++revision_;
-  state_.has_previous = false;
-  rebuildMovableMask();
-  clearLoads();
-  return grasps_.back().id;
-}
-
-void Simulation::removeGrasp(int id) {
-  auto it = std::find_if(grasps_.begin(), grasps_.end(), [id](const Grasp& g) { return g.id == id; });
-  if (it == grasps_.end()) throw std::invalid_argument("no grasp with id " + std::to_string(id));
-  for (int pin_id : it->pin_ids) pins_.remove(pin_id);
-  grasps_.erase(it);
-  ++revision_;
-  state_.has_previous = false;
-  rebuildMovableMask();
-  clearLoads();
-}
-
-void Simulation::placeGrasps(double time, PinSet* pins_at) {
-  for (Grasp& g : grasps_) {
-    if (pose_source_) {
-      const Pose pose = pose_source_(g.id, time);
-      if (pose.matrix().allFinite()) g.pose = pose;  // a bad answer keeps the last pose
-    }
-    for (std::size_t k = 0; k < g.pin_ids.size(); ++k) {
-      const Vec3 target = g.pose * Vec3(g.local.col(static_cast<Eigen::Index>(k)));
-      pins_.moveTarget(g.pin_ids[k], target);
-      if (pins_at != nullptr) pins_at->moveTarget(g.pin_ids[k], target);
-    }
-  }
-}
-
-void Simulation::updateGraspWrenches() {
-  for (Grasp& g : grasps_) {
-    g.wrench = Wrench();
-    const Vec3 origin = g.pose.translation();
-    for (std::size_t p = 0; p < pins_.size(); ++p) {
-      const Pin& pin = pins_.pins()[p];
-      if (std::find(g.pin_ids.begin(), g.pin_ids.end(), pin.id) == g.pin_ids.end()) continue;
-      g.wrench.force += pin_loads_[p];
-      g.wrench.torque += (Vec3(state_.positions.col(pin.vertex)) - origin).cross(pin_loads_[p]);
-    }
-  }
 }
 
 }  // namespace cloth_sim

@@ -2,59 +2,25 @@
 /// One simulated object: model, state, pins, colliders and a solver, stepped together.
 #pragma once
 
-#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "cloth_sim/core/collision/colliders.h"
-#include "cloth_sim/core/collision/contact_forces.h"
 #include "cloth_sim/core/collision/self_contact.h"
 #include "cloth_sim/core/collision/triangle_intersection.h"
 #include "cloth_sim/core/model/model.h"
 #include "cloth_sim/core/model/pins.h"
+#include "cloth_sim/core/simulation/frame_inputs.h"
 #include "cloth_sim/core/simulation/grasp.h"
+#include "cloth_sim/core/simulation/grasp_set.h"
+#include "cloth_sim/core/simulation/step_report.h"
+#include "cloth_sim/core/simulation/substep.h"
 #include "cloth_sim/core/solvers/midpoint_safeguard.h"
-#include "cloth_sim/core/solvers/pin_reactions.h"
 #include "cloth_sim/core/solvers/solver.h"
 
 namespace cloth_sim {
-
-/// Outcome of a step.
-enum class StepStatus {
-  kOk,         ///< step taken
-  kNonFinite,  ///< the solver produced NaN/Inf: rolled back (see Simulation::step)
-  kDiverged,   ///< max strain above SimulationOptions::divergence_strain: rolled back
-};
-/// "ok", "non_finite", "diverged".
-const char* stepStatusName(StepStatus status);
-
-/// What one step did and cost.
-struct StepReport {
-  StepStatus status = StepStatus::kOk;
-  int substeps = 0;          ///< implicit steps taken in this frame (SolverSettings::substeps)
-  int iterations = 0;        ///< solver iterations of the last substep (SolveResult)
-  double convergence = 0.0;  ///< relative position change of the last iteration (last substep)
-  bool converged = false;    ///< the solver tolerance was reached
-  double solve_time = 0.0;   ///< s of wall time in the solver (all substeps)
-  double wall_time = 0.0;    ///< s of wall time for the whole step (solve, contacts, checks)
-  /// Contacts of the frame, summed over its substeps: contact forces that pushed in the solve
-  /// plus particles moved out of a collider by the projection after it.
-  int contacts = 0;
-  /// Particles moved by self-contact (displacement bound and projection, summed over substeps).
-  int self_contacts = 0;
-  /// Pairs of triangles sharing no vertex that intersect after the step (IntersectionCounter):
-  /// 0 for a cloth that did not pass through itself; -1 = not counted (self-collision off).
-  int intersections = -1;
-  double self_contact_time = 0.0;  ///< s of wall time in self-contact (bound and projection)
-  double intersection_time = 0.0;  ///< s of wall time in the intersection counter
-  double max_strain = 0.0;   ///< max |l - r| / r over the springs after the step
-  /// Substeps of this frame whose implicit midpoint step gained energy and were redone as two
-  /// implicit Euler steps of h/2 (MidpointSafeguard, docs/method.md "Implicit midpoint").
-  int midpoint_fallbacks = 0;
-  std::string message;       ///< empty when ok; otherwise what went wrong and what was done
-};
 
 /// Options fixed at construction (the solver, its settings and the frame time can be changed
 /// later).
@@ -75,25 +41,27 @@ struct SimulationOptions {
   void validate() const;
 };
 
-/// A mass-spring object with its pins and colliders, advanced one time step at a time.
+/// A mass-spring object with its pins and colliders, advanced one frame at a time.
 ///
 /// Every editing method validates its input first and throws std::invalid_argument with a
-/// message naming what is wrong, leaving the simulation untouched. Changing h, a stiffness, the
-/// set of pins or the integrator bumps the revision, so a factorizing solver refactors once at
-/// the next step; moving a pin target or a sphere does not. Reset, rollback, a pin-set change
-/// and a new step size clear the state's BDF2 history (State::has_previous).
+/// message naming what is wrong, leaving the simulation untouched. An edit says what it changed
+/// (a pin set, a stiffness, the step size, the integrator, a restart) and one function decides
+/// from that what follows: a new revision, so that a factorizing solver refactors once at the
+/// next step (pin set, stiffness, step size, integrator; moving a pin target or a sphere does
+/// not), no BDF2 history (State::has_previous: pin set, step size, restart), the movable mask
+/// and zero pin loads (pin set; loads also on a restart).
 class Simulation {
  public:
   Simulation(Model model, const Points& rest_positions, PinSet pins, Colliders colliders,
              SimulationOptions options);
 
   /// Advances by one frame, frameTime() s, as SolverSettings::substeps implicit steps of
-  /// substepTime() = frameTime() / substeps: in each, spheres move, the solver steps,
-  /// contacts are resolved. Pin targets and kinematic sphere centres the user moved since the
-  /// last frame move there linearly across the substeps (no jerk in the first substep). A
-  /// non-finite or diverged frame is rolled back: the cloth and spheres return to what they were
-  /// before the frame with every velocity set to zero, while the user's edits (pins, their
-  /// targets, spheres and their moves) are kept; the report says so.
+  /// substepTime(): in each, spheres move, the solver steps, contacts are resolved
+  /// (SubstepPipeline). Pin targets and kinematic sphere centres the user moved since the last
+  /// frame move there linearly across the substeps (FrameInputs: no jerk in the first
+  /// substep). A non-finite or diverged frame is rolled back: the cloth and spheres return to
+  /// what they were before the frame with every velocity set to zero, while the user's edits
+  /// (pins, their targets, spheres and their moves) are kept; the report says so.
   StepReport step();
 
   /// Back to the initial state, pins and spheres given at construction, with no grasp.
@@ -124,16 +92,18 @@ class Simulation {
   /// at @p pose). Returns the grasp id. Throws std::invalid_argument naming what is wrong.
   int addGrasp(const std::vector<int>& vertices, const Pose& pose);
   /// The grasp holding pin @p pin_id, or nullptr for a pin of the user's own.
-  const Grasp* graspOf(int pin_id) const;
+  const Grasp* graspOf(int pin_id) const { return grasps_.graspOf(pin_id); }
   bool isGrasped(int pin_id) const { return graspOf(pin_id) != nullptr; }
   /// Lets go of grasp @p id: its pins are removed and its particles fall free.
   void removeGrasp(int id);
   /// The function asked, at each substep, where each grasp's frame is (empty: frames stay put).
-  void setGraspPoseSource(GraspPoseSource source) { pose_source_ = std::move(source); }
-  int addSphere(const SphereCollider& sphere);
-  void removeSphere(int id);
+  void setGraspPoseSource(GraspPoseSource source) { grasps_.setPoseSource(std::move(source)); }
+  int addSphere(const SphereCollider& sphere) { return colliders_.addSphere(sphere); }
+  void removeSphere(int id) { colliders_.removeSphere(id); }
+  /// Sets sphere @p id to @p center (m) and @p velocity (m/s); a kinematic sphere goes there
+  /// across the next frame's substeps, sweeping the cloth (FrameInputs::moveSphere).
   void moveSphere(int id, const Vec3& center, const Vec3& velocity);
-  void setGround(const GroundPlane& ground);
+  void setGround(const GroundPlane& ground) { colliders_.setGround(ground); }
   void setFamilyStiffness(SpringFamily family, double stiffness);
   /// Damping rate (1/s), see Model::damping. Does not refactor.
   void setDamping(double damping);
@@ -161,12 +131,12 @@ class Simulation {
   const Points& initialPositions() const { return initial_state_.positions; }
   const PinSet& pins() const { return pins_; }
   /// What the cloth exerts on each pin (N) after the last substep, in pins().pins() order
-  /// (PinReactions); zero after a pin-set change or a rollback until the next step.
+  /// (PinReactions); zero after a pin-set change or a restart until the next step.
   const std::vector<Vec3>& pinLoads() const { return pin_loads_; }
   /// The grasps, in the order they were made; each with its pose and wrench of the last substep.
-  const std::vector<Grasp>& grasps() const { return grasps_; }
+  const std::vector<Grasp>& grasps() const { return grasps_.grasps(); }
   /// The grasp with @p id, or nullptr.
-  const Grasp* findGrasp(int id) const;
+  const Grasp* findGrasp(int id) const { return grasps_.find(id); }
   const Colliders& colliders() const { return colliders_; }
   /// The solver in use, by the name it was chosen with (the midpoint safeguard around it is
   /// not a solver of its own).
@@ -183,53 +153,33 @@ class Simulation {
   /// self-contact is on).
   int countIntersections();
   /// Numeric factorizations done by all solvers so far.
-  int factorizationCount() const;
+  int factorizationCount() const { return retired_factorizations_ + solver_->factorizationCount(); }
   /// The farthest a pin's target moves in one frame (m): substeps x the shortest spring's rest
   /// length x divergence_strain / 10. A target set farther away is approached at that speed.
   double maxPinMove() const;
-  /// Bumped when h, a stiffness, a mass or the pin set changes (see SolverInput).
+  /// Bumped when h, a stiffness, a mass, the pin set or the integrator changes (see
+  /// SolverInput::revision).
   std::uint64_t revision() const { return revision_; }
 
  private:
-  void rebuildMovableMask();
-  /// Pin targets of every grasp at its frame's pose at simulated time @p time (s), written into
-  /// pins_ and, if given, @p pins_at too.
-  void placeGrasps(double time, PinSet* pins_at);
-  /// Each grasp's wrench from pin_loads_ and the positions.
-  void updateGraspWrenches();
-  /// Throws if pin @p id belongs to a grasp (@p what: "removed", "moved").
-  void requireNotGrasped(int id, const char* what) const;
-  /// Zero loads for the current pins (after a pin-set change or a rollback).
-  void clearLoads();
-  /// One implicit step of substepTime() with @p pins; adds what it did to @p report.
-  void substep(const PinSet& pins, StepReport& report);
-  /// The solver's step on @p input, its iterations and time added to @p report.
-  SolveResult solve(const SolverInput& input, StepReport& report);
-  /// A pin's target this frame: from where it stood at the end of the last frame to where it
-  /// stands at the end of this one (at most maxPinMove() from there).
-  struct PinPath {
-    int id;
-    Vec3 from, to;
+  /// What an edit changed, as bits of changed()'s argument.
+  enum Change : unsigned {
+    kPinSet = 1u << 0,      ///< pins added or removed, or their vertices or stiffness differ
+    kStiffness = 1u << 1,   ///< a spring family's stiffness
+    kStepSize = 1u << 2,    ///< the implicit step h (frame time or substeps)
+    kIntegrator = 1u << 3,  ///< SolverSettings::integrator: another matrix
+    kRestart = 1u << 4,     ///< the state was put back (rollback, reset, resetCloth)
   };
-  /// @p pins_at with the targets of @p paths at fraction @p s of their way.
-  void interpolatePins(double s, const std::vector<PinPath>& paths, PinSet& pins_at) const;
-  /// Kinematic spheres moved since the last frame: their pending jumps become velocities for
-  /// the frame (sign +1) or are taken back out of them (-1).
-  void applySphereJumps(double sign);
-  /// Where a target set at @p target stands at the end of the coming frame, having stood at
-  /// @p from at the end of the last one: @p target, or maxPinMove() of the way there.
-  Vec3 towards(const Vec3& from, const Vec3& target) const;
-  /// Every pin's target starts at its particle's current position (start, reset): a target away
-  /// from it is then approached at the pins' speed limit instead of in one jerk.
-  void startPinsAtParticles();
-  /// Rolls the cloth and spheres back to @p state and @p colliders, keeping the user's edits.
+  /// Decides from @p changes (Change bits) what follows an edit: a new revision (pin set,
+  /// stiffness, step size, integrator), no BDF2 history (pin set: a new pin's particle has none
+  /// on its target; step size: the history is for the old step; restart), the movable mask
+  /// (pin set) and zero pin loads (pin set, restart).
+  void changed(unsigned changes);
+  /// Rolls the cloth and spheres back to @p state and @p colliders (zero velocities) and
+  /// forgets the contact warm start that led there.
   void rollBack(const State& state, const Colliders& colliders);
-
-  /// A kinematic sphere the user moved since the last frame.
-  struct SphereJump {
-    int id;
-    Vec3 displacement;  ///< m, spread over the frame's substeps
-  };
+  /// The parts of this simulation a substep works on.
+  SubstepWorld substepWorld();
 
   Model model_;
   State state_, initial_state_;
@@ -238,18 +188,14 @@ class Simulation {
   SimulationOptions options_;
   std::unique_ptr<MidpointSafeguard> solver_;  ///< the user's solver, in the safeguard
   int retired_factorizations_ = 0;
-  std::uint64_t revision_ = 1;
+  std::uint64_t revision_ = 0;
   std::vector<char> movable_;  ///< false for hard-pinned particles (collisions skip them)
-  ContactForces contacts_;     ///< in-solve contact forces, warm-started across steps
-  std::unique_ptr<SelfContact> self_contact_;  ///< null when self-contact is off
+  std::unique_ptr<SelfContact> self_contact_;           ///< null when self-contact is off
   std::unique_ptr<IntersectionCounter> intersections_;  ///< built at first use
-  std::vector<std::pair<int, Vec3>> frame_targets_;  ///< pin id -> target at the last frame's end
-  double shortest_rest_length_ = 0.0;  ///< m, of all springs (maxPinMove)
-  std::vector<SphereJump> sphere_jumps_;
-  std::vector<Grasp> grasps_;
-  int next_grasp_id_ = 0;
-  GraspPoseSource pose_source_;
-  PinReactions reactions_;
+  double shortest_rest_length_ = 0.0;                   ///< m, of all springs (maxPinMove)
+  FrameInputs inputs_;
+  GraspSet grasps_;
+  SubstepPipeline substep_;
   std::vector<Vec3> pin_loads_;  ///< N, see pinLoads()
 };
 

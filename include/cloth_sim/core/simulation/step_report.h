@@ -1,0 +1,58 @@
+/// @file step_report.h
+/// What a frame did and cost (StepReport), and whether its end state can be kept.
+#pragma once
+
+#include <string>
+
+#include "cloth_sim/core/collision/colliders.h"
+#include "cloth_sim/core/model/model.h"
+
+namespace cloth_sim {
+
+/// Outcome of a step.
+enum class StepStatus {
+  kOk,         ///< step taken
+  kNonFinite,  ///< the solver produced NaN/Inf: rolled back (see Simulation::step)
+  kDiverged,   ///< max strain above SimulationOptions::divergence_strain: rolled back
+};
+/// "ok", "non_finite", "diverged".
+const char* stepStatusName(StepStatus status);
+
+/// What one step did and cost.
+struct StepReport {
+  StepStatus status = StepStatus::kOk;
+  int substeps = 0;          ///< implicit steps taken in this frame (SolverSettings::substeps)
+  int iterations = 0;        ///< solver iterations of the last substep (SolveResult)
+  double convergence = 0.0;  ///< relative position change of the last iteration (last substep)
+  bool converged = false;    ///< the solver tolerance was reached
+  double solve_time = 0.0;   ///< s of wall time in the solver (all substeps)
+  double wall_time = 0.0;    ///< s of wall time for the whole step (solve, contacts, checks)
+  /// Contacts of the frame, summed over its substeps: contact forces that pushed in the solve
+  /// plus particles moved out of a collider by the projection after it.
+  int contacts = 0;
+  /// Particles moved by self-contact (displacement bound and projection, summed over substeps).
+  int self_contacts = 0;
+  /// Pairs of triangles sharing no vertex that intersect after the step (IntersectionCounter):
+  /// 0 for a cloth that did not pass through itself; -1 = not counted (self-collision off).
+  int intersections = -1;
+  double self_contact_time = 0.0;  ///< s of wall time in self-contact (bound and projection)
+  double intersection_time = 0.0;  ///< s of wall time in the intersection counter
+  double max_strain = 0.0;         ///< max |l - r| / r over the springs after the step
+  /// Substeps of this frame whose implicit midpoint step gained energy and were redone as two
+  /// implicit Euler steps of h/2 (MidpointSafeguard, docs/method.md "Implicit midpoint").
+  int midpoint_fallbacks = 0;
+  std::string message;  ///< empty when ok; otherwise what went wrong and what was done
+};
+
+/// Whether a frame that ended at @p state and @p colliders, with max spring strain
+/// @p max_strain, can be kept: kNonFinite if a position, a velocity (cloth or sphere) or the
+/// strain is not finite, kDiverged if the strain is above @p divergence_strain, else kOk.
+StepStatus frameStatus(const State& state, const Colliders& colliders, double max_strain,
+                       double divergence_strain);
+
+/// The report's message for a frame of @p solver rolled back from @p status (not kOk), with
+/// @p max_strain against @p divergence_strain, started at simulated time @p time (s).
+std::string rollbackMessage(StepStatus status, const char* solver, double max_strain,
+                            double divergence_strain, double time);
+
+}  // namespace cloth_sim

@@ -1,0 +1,102 @@
+#include "cloth_sim/core/simulation/frame_inputs.h"
+
+#include <utility>
+
+namespace cloth_sim {
+namespace {
+
+/// Where a target set at @p target stands at the end of the coming frame, having stood at
+/// @p from at the end of the last one: @p target, or @p limit m of the way there.
+Vec3 towards(const Vec3& from, const Vec3& target, double limit) {
+  const Vec3 way = target - from;
+  const double distance = way.norm();
+  return distance <= limit ? target : Vec3(from + way * (limit / distance));
+}
+
+}  // namespace
+
+void FrameInputs::startPinsAt(const PinSet& pins, const Points& positions) {
+  frame_targets_.clear();
+  for (const Pin& pin : pins.pins())
+    frame_targets_.emplace_back(pin.id, Vec3(positions.col(pin.vertex)));
+}
+
+void FrameInputs::moveSphere(Colliders& colliders, int id, const Vec3& center,
+                             const Vec3& velocity) {
+  const SphereCollider* s = colliders.findSphere(id);
+  const Vec3 from = s != nullptr ? s->center : center;
+  colliders.moveSphere(id, center, velocity);         // validates; throws for an unknown id
+  if (colliders.findSphere(id)->isDynamic()) return;  // a ball is placed at once
+  // A kinematic sphere goes there across the next frame's substeps, sweeping the cloth.
+  colliders.moveSphere(id, from, velocity);
+  for (SphereJump& jump : sphere_jumps_) {
+    if (jump.id == id) {
+      jump.displacement = center - from;
+      return;
+    }
+  }
+  sphere_jumps_.push_back({id, center - from});
+}
+
+void FrameInputs::beginFrame(const PinSet& pins, double max_pin_move, double frame_time,
+                             Colliders& colliders) {
+  paths_.clear();
+  for (const auto& [id, from] : frame_targets_) {
+    const Pin* pin = pins.find(id);
+    if (pin != nullptr && pin->target != from) {
+      paths_.push_back({id, from, towards(from, pin->target, max_pin_move)});
+    }
+  }
+  pins_at_ = paths_.empty() ? PinSet() : pins;
+  applySphereJumps(+1.0, frame_time, colliders);
+  frame_end_.clear();
+  for (const Pin& pin : pins.pins()) frame_end_.emplace_back(pin.id, pin.target);
+  for (const PinPath& path : paths_) {
+    for (auto& [id, target] : frame_end_) {
+      if (id == path.id) target = path.to;
+    }
+  }
+}
+
+const PinSet& FrameInputs::pinsAt(int k, int n, double time, GraspSet& grasps, PinSet& pins) {
+  const bool moved = !paths_.empty();
+  if (moved) {
+    const double s = static_cast<double>(k) / n;
+    for (const PinPath& path : paths_)
+      pins_at_.moveTarget(path.id, path.from + s * (path.to - path.from));
+  }
+  if (!grasps.empty()) grasps.place(time, pins, moved ? &pins_at_ : nullptr);
+  return moved ? pins_at_ : pins;
+}
+
+void FrameInputs::endFrame(bool kept, const PinSet& pins, const GraspSet& grasps, double frame_time,
+                           Colliders& colliders) {
+  if (kept) {
+    applySphereJumps(-1.0, frame_time, colliders);
+  } else {
+    // The user's sphere moves of a rolled-back frame stand: those spheres go where they were sent.
+    for (const SphereJump& jump : sphere_jumps_) {
+      if (const SphereCollider* s = colliders.findSphere(jump.id)) {
+        colliders.moveSphere(jump.id, s->center + jump.displacement, s->velocity);
+      }
+    }
+  }
+  sphere_jumps_.clear();
+  // A grasp's pins follow its frame (GraspSet::place), not the speed limit of the user's moves.
+  for (auto& [id, target] : frame_end_) {
+    if (grasps.graspOf(id) != nullptr) target = pins.find(id)->target;
+  }
+  frame_targets_ = std::move(frame_end_);
+  frame_end_.clear();
+  paths_.clear();
+}
+
+void FrameInputs::applySphereJumps(double sign, double frame_time, Colliders& colliders) const {
+  for (const SphereJump& jump : sphere_jumps_) {
+    const SphereCollider* s = colliders.findSphere(jump.id);
+    if (s == nullptr) continue;
+    colliders.moveSphere(jump.id, s->center, s->velocity + sign * jump.displacement / frame_time);
+  }
+}
+
+}  // namespace cloth_sim
