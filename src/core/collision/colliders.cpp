@@ -129,6 +129,107 @@ class SphereCandidates {
   SpatialHash hash_;
 };
 
+/// Particle @p i (its step from step.start to @p end) against every sphere whose swept box its
+/// path meets: moved out of each it entered, by the whole correction for a kinematic sphere, by
+/// the mass share M/(M+m) for a dynamic one, which gets the opposite impulse in @p reactions.
+/// Returns whether any sphere moved it.
+bool collideWithSpheres(const CollisionStep& step, const std::vector<SphereCollider>& spheres,
+                        const SphereCandidates& candidates, bool in_solve_contacts,
+                        Eigen::Index i, Points& end, std::vector<SphereReaction>& reactions) {
+  const double h = step.h;
+  const Points& start = step.start;
+  bool hit = false;
+  candidates.forEach(start.col(i), end.col(i), [&](std::size_t k) {
+    const SphereCollider& s = spheres[k];
+    const Vec3 old_center = s.center - h * s.velocity;
+    Vec3 rel_end = end.col(i) - s.center;
+    // A dynamic sphere's contacts were solved with the step (ContactForces), against its
+    // triangles linearised as half-spaces: leave the small overlap that linearisation allows
+    // (correcting it here fought the solved forces); catch only what the solve missed.
+    if (s.isDynamic() && in_solve_contacts && rel_end.norm() > (1.0 - kShallowOverlap) * s.radius &&
+        (start.col(i) - old_center).norm() > s.radius) {
+      return;
+    }
+    const auto slip = [&](const Vec3& n) { return Vec3(h * s.angular_velocity.cross(s.radius * n)); };
+    std::optional<Vec3> rel_motion = step.freeMotion(i);
+    if (rel_motion) *rel_motion -= s.center - old_center;
+    if (!collideSphere(start.col(i) - old_center, rel_end, s.radius, s.friction, slip, rel_motion)) return;
+    const Vec3 correction = s.center + rel_end - end.col(i);
+    if (s.isDynamic()) {
+      // Share the correction by mass; the sphere takes the opposite impulse (applied later).
+      const double share = s.mass / (s.mass + step.mass[i]);
+      const Vec3 impulse = step.mass[i] * share * correction / h;
+      reactions[k].impulse -= impulse;
+      reactions[k].angular_impulse -= rel_end.cross(impulse);
+      end.col(i) += share * correction;
+    } else {
+      end.col(i) += correction;
+    }
+    hit = true;
+  });
+  return hit;
+}
+
+/// Particle @p i lifted onto the @p ground (if on and below it), its slide along it cut by the
+/// ground's friction (@p still_motion: its motion without the collision, see frictionLoad).
+/// Returns whether it moved.
+bool collideWithGround(const CollisionStep& step, const GroundPlane& ground,
+                       const std::optional<Vec3>& still_motion, Eigen::Index i, Points& end) {
+  if (!(ground.enabled && end(2, i) < ground.height)) return false;
+  const double depth = ground.height - end(2, i);
+  end(2, i) = ground.height;
+  end.col(i) = step.start.col(i) +
+               applyFriction(end.col(i) - step.start.col(i), Vec3::UnitZ(),
+                             frictionLoad(depth, Vec3::UnitZ(), still_motion), ground.friction);
+  end(2, i) = std::max(end(2, i), ground.height);
+  return true;
+}
+
+/// Particle @p i against each mesh obstacle in turn (MeshObstacle::collide keeps its start
+/// side). Returns whether any moved it.
+bool collideWithMeshes(const CollisionStep& step,
+                       const std::vector<std::shared_ptr<const MeshObstacle>>& meshes,
+                       const std::optional<Vec3>& still_motion, Eigen::Index i, Points& end) {
+  bool hit = false;
+  for (const auto& mesh : meshes) {
+    Vec3 moved = end.col(i);
+    if (mesh->collide(step.start.col(i), moved, still_motion)) {
+      end.col(i) = moved;
+      hit = true;
+    }
+  }
+  return hit;
+}
+
+/// Each dynamic sphere takes the impulses of @p reactions (summed over the particles), and
+/// then pushes out fully the particles its own move brought back into it.
+void applySphereReactions(const CollisionStep& step, const std::vector<SphereReaction>& reactions,
+                          bool in_solve_contacts, std::vector<SphereCollider>& spheres, Points& end,
+                          Points& velocities) {
+  const double h = step.h;
+  for (std::size_t k = 0; k < spheres.size(); ++k) {
+    SphereCollider& s = spheres[k];
+    if (!s.isDynamic()) continue;
+    const Vec3 dv = reactions[k].impulse / s.mass;
+    s.velocity += dv;
+    s.center += h * dv;  // the position change that goes with the velocity change
+    s.angular_velocity += reactions[k].angular_impulse / s.inertia();
+    // The sphere's own move above may have brought it back into a particle by a fraction m/M of
+    // a correction: push such particles out fully; the sphere only takes the (tiny) impulse.
+    for (Eigen::Index i = 0; i < end.cols(); ++i) {
+      if (!step.movable[i]) continue;
+      const Vec3 d = end.col(i) - s.center;
+      const double dist = d.norm();
+      const double allowed = in_solve_contacts ? (1.0 - kShallowOverlap) * s.radius : s.radius;
+      if (dist >= allowed || dist < 1e-12) continue;
+      const Vec3 push = (allowed - dist) * d / dist;
+      end.col(i) += push;
+      velocities.col(i) = (end.col(i) - step.start.col(i)) / h;
+      s.velocity -= step.mass[i] * push / (h * s.mass);
+    }
+  }
+}
+
 }  // namespace
 
 int Colliders::addSphere(const SphereCollider& sphere) {
@@ -190,96 +291,30 @@ void Colliders::advance(double h, const Vec3& gravity, double decay) {
 
 int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& end,
                       Points& velocities, bool in_solve_contacts) {
-  const double h = step.h;
-  const Eigen::VectorXd& mass = step.mass;
-  const std::vector<char>& movable = step.movable;
-  const Points& start = step.start;
-  int corrected = 0;
   const GroundPlane& ground = colliders.ground();
   std::vector<SphereCollider>& spheres = colliders.mutableSpheres();
   std::vector<SphereReaction> reactions(spheres.size());
-  const SphereCandidates candidates(spheres, h);
+  const SphereCandidates candidates(spheres, step.h);
+  int corrected = 0;
   for (Eigen::Index i = 0; i < end.cols(); ++i) {
-    if (!movable[i]) continue;
+    if (!step.movable[i]) continue;
     // The solve already applied the ground's and the meshes' friction with their contact
     // forces (ContactForces): what is left here is a small residual, corrected without any.
     const std::optional<Vec3> still_motion =
         in_solve_contacts ? std::optional<Vec3>(Vec3::Zero()) : step.freeMotion(i);
-    bool hit = false;
-    candidates.forEach(start.col(i), end.col(i), [&](std::size_t k) {
-      const SphereCollider& s = spheres[k];
-      const Vec3 old_center = s.center - h * s.velocity;
-      Vec3 rel_end = end.col(i) - s.center;
-      // A dynamic sphere's contacts were solved with the step (ContactForces), against its
-      // triangles linearised as half-spaces: leave the small overlap that linearisation allows
-      // (correcting it here fought the solved forces); catch only what the solve missed.
-      if (s.isDynamic() && in_solve_contacts && rel_end.norm() > (1.0 - kShallowOverlap) * s.radius &&
-          (start.col(i) - old_center).norm() > s.radius) {
-        return;
-      }
-      const auto slip = [&](const Vec3& n) { return Vec3(h * s.angular_velocity.cross(s.radius * n)); };
-      std::optional<Vec3> rel_motion = step.freeMotion(i);
-      if (rel_motion) *rel_motion -= s.center - old_center;
-      if (!collideSphere(start.col(i) - old_center, rel_end, s.radius, s.friction, slip, rel_motion)) return;
-      const Vec3 correction = s.center + rel_end - end.col(i);
-      if (s.isDynamic()) {
-        // Share the correction by mass; the sphere takes the opposite impulse (applied below).
-        const double share = s.mass / (s.mass + mass[i]);
-        const Vec3 impulse = mass[i] * share * correction / h;
-        reactions[k].impulse -= impulse;
-        reactions[k].angular_impulse -= rel_end.cross(impulse);
-        end.col(i) += share * correction;
-      } else {
-        end.col(i) += correction;
-      }
-      hit = true;
-    });
+    bool hit = collideWithSpheres(step, spheres, candidates, in_solve_contacts, i, end, reactions);
     // The ground before the meshes: lifting a particle onto the ground must not put it into
     // an obstacle standing there (a table leg); the mesh response keeps its start side.
-    if (ground.enabled && end(2, i) < ground.height) {
-      const double depth = ground.height - end(2, i);
-      end(2, i) = ground.height;
-      end.col(i) = start.col(i) +
-                   applyFriction(end.col(i) - start.col(i), Vec3::UnitZ(),
-                                 frictionLoad(depth, Vec3::UnitZ(), still_motion), ground.friction);
-      end(2, i) = std::max(end(2, i), ground.height);
-      hit = true;
-    }
-    for (const auto& mesh : colliders.meshes()) {
-      Vec3 moved = end.col(i);
-      if (mesh->collide(start.col(i), moved, still_motion)) {
-        end.col(i) = moved;
-        hit = true;
-      }
-    }
+    hit = collideWithGround(step, ground, still_motion, i, end) || hit;
+    hit = collideWithMeshes(step, colliders.meshes(), still_motion, i, end) || hit;
     // A mesh standing on the ground may push a particle round its bottom edge below it.
     if (ground.enabled) end(2, i) = std::max(end(2, i), ground.height);
     if (hit) {
-      velocities.col(i) = (end.col(i) - start.col(i)) / h;
+      velocities.col(i) = (end.col(i) - step.start.col(i)) / step.h;
       ++corrected;
     }
   }
-  for (std::size_t k = 0; k < spheres.size(); ++k) {
-    SphereCollider& s = spheres[k];
-    if (!s.isDynamic()) continue;
-    const Vec3 dv = reactions[k].impulse / s.mass;
-    s.velocity += dv;
-    s.center += h * dv;  // the position change that goes with the velocity change
-    s.angular_velocity += reactions[k].angular_impulse / s.inertia();
-    // The sphere's own move above may have brought it back into a particle by a fraction m/M of
-    // a correction: push such particles out fully; the sphere only takes the (tiny) impulse.
-    for (Eigen::Index i = 0; i < end.cols(); ++i) {
-      if (!movable[i]) continue;
-      const Vec3 d = end.col(i) - s.center;
-      const double dist = d.norm();
-      const double allowed = in_solve_contacts ? (1.0 - kShallowOverlap) * s.radius : s.radius;
-      if (dist >= allowed || dist < 1e-12) continue;
-      const Vec3 push = (allowed - dist) * d / dist;
-      end.col(i) += push;
-      velocities.col(i) = (end.col(i) - start.col(i)) / h;
-      s.velocity -= mass[i] * push / (h * s.mass);
-    }
-  }
+  applySphereReactions(step, reactions, in_solve_contacts, spheres, end, velocities);
   return corrected;
 }
 
