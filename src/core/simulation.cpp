@@ -28,10 +28,7 @@ void SimulationOptions::validate() const {
   settings.validate();
   self_contact.validate();
   makeSolver(solver)->requireSettings(settings);  // makeSolver lists the names
-  if (!settings::kDivergenceStrain.range.contains(divergence_strain)) {
-    throw std::invalid_argument("divergence_strain must be finite and " +
-                                settings::kDivergenceStrain.requirement());
-  }
+  settings::kDivergenceStrain.require(divergence_strain);
 }
 
 Simulation::Simulation(Model model, const Points& rest_positions, PinSet pins, Colliders colliders,
@@ -411,13 +408,7 @@ void Simulation::moveSphere(int id, const Vec3& center, const Vec3& velocity) {
 void Simulation::setGround(const GroundPlane& ground) { colliders_.setGround(ground); }
 
 void Simulation::setFamilyStiffness(SpringFamily family, double stiffness) {
-  const Setting& rule = family == SpringFamily::kStructural ? settings::kStructuralStiffness
-                        : family == SpringFamily::kShear    ? settings::kShearStiffness
-                                                            : settings::kBendingStiffness;
-  if (!rule.range.contains(stiffness)) {
-    throw std::invalid_argument(std::string(springFamilyName(family)) + " stiffness " +
-                                std::to_string(stiffness) + " N/m must be finite and >= 0");
-  }
+  stiffnessSetting(family).require(stiffness, std::string(springFamilyName(family)) + " stiffness");
   if (model_.familySize(family) == 0) {
     throw std::invalid_argument(std::string("this object has no ") + springFamilyName(family) +
                                 " springs");
@@ -428,18 +419,12 @@ void Simulation::setFamilyStiffness(SpringFamily family, double stiffness) {
 }
 
 void Simulation::setDamping(double damping) {
-  if (!settings::kDamping.range.contains(damping)) {
-    throw std::invalid_argument("damping " + std::to_string(damping) +
-                                " 1/s must be finite and >= 0");
-  }
+  settings::kDamping.require(damping, "damping");
   model_.damping = damping;
 }
 
 void Simulation::setTimeStep(double h) {
-  if (!settings::kTimeStep.range.contains(h)) {
-    throw std::invalid_argument("time step " + std::to_string(h) + " s must be finite and " +
-                                settings::kTimeStep.requirement());
-  }
+  settings::kTimeStep.require(h, "time step");
   if (h == frame_time_) return;
   frame_time_ = h;
   model_.time_step = h / options_.settings.substeps;

@@ -1,12 +1,9 @@
 #include "cloth_sim/node/options.h"
 
-#include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 #include "cloth_sim/core/settings/settings_table.h"
 #include "cloth_sim/core/solvers/solver.h"
-#include "cloth_sim/node/conversions.h"
 #include "cloth_sim/node/marker_builder.h"
 
 namespace cloth_sim::node {
@@ -89,13 +86,6 @@ class ParamReader {
   XmlRpc::XmlRpcValue params_;
 };
 
-template <class T>
-std::string str(const T& value) {
-  std::ostringstream s;
-  s << value;
-  return s.str();
-}
-
 }  // namespace
 
 NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
@@ -143,9 +133,6 @@ void validateNodeOptions(const NodeOptions& o) {
     fail("frame_id", "'" + o.frame_id + "' must be a non-empty tf2 frame name without a "
                      "leading '/'");
   }
-  if (!std::isfinite(o.render_rate) || o.render_rate <= 0.0 || o.render_rate > 1000.0) {
-    fail("render_rate", str(o.render_rate) + " must be in (0, 1000] Hz");
-  }
   if (!o.solver.empty()) {
     try {
       makeSolver(o.solver);
@@ -153,38 +140,27 @@ void validateNodeOptions(const NodeOptions& o) {
       fail("solver", e.what());
     }
   }
-  const std::string iterations_problem = violation(o.iterations, kIterationsOverride);
-  if (!iterations_problem.empty()) fail("iterations", iterations_problem);
-  const std::string substeps_problem = violation(o.substeps, kSubstepsOverride);
-  if (!substeps_problem.empty()) fail("substeps", substeps_problem);
-  if (o.max_rollbacks < 1) fail("max_rollbacks", str(o.max_rollbacks) + " must be >= 1");
-  if (!std::isfinite(o.strain_color_scale) || o.strain_color_scale <= 0.0) {
-    fail("strain_color_scale", str(o.strain_color_scale) + " must be finite and > 0");
-  }
-  if (!std::isfinite(o.sphere_cull_distance) || o.sphere_cull_distance <= 0.0) {
-    fail("sphere_cull_distance", str(o.sphere_cull_distance) + " m must be finite and > 0");
-  }
-  if (o.max_interactive_pins < 0) {
-    fail("max_interactive_pins", str(o.max_interactive_pins) + " must be >= 0 (0 = none)");
-  }
   try {
     colorModeFromName(o.color_mode);
   } catch (const std::invalid_argument& e) {
     fail("color_mode", e.what());
   }
-  if (!std::isfinite(o.marker_bandwidth) || o.marker_bandwidth <= 0.0) {
-    fail("marker_bandwidth", str(o.marker_bandwidth) + " bytes/s must be finite and > 0");
-  }
-  if (!std::isfinite(o.summary_period) || o.summary_period < 0.0) {
-    fail("summary_period", str(o.summary_period) + " s must be finite and >= 0 (0 = off)");
-  }
+  // Every number against its rule, in the order of NodeOptions.
   for (const auto& [value, setting] :
-       {std::pair{o.real_time_factor, &settings::kRealTimeFactor},
-        std::pair{o.grasp_frame_timeout, &settings::kGraspFrameTimeout},
-        std::pair{o.force_arrow_scale, &settings::kForceArrowScale},
-        std::pair{o.budget_ms, &settings::kFrameBudget}}) {
-    const std::string problem = violation(value, *setting);
-    if (!problem.empty()) fail(setting->param, problem);
+       {std::pair<double, const Setting*>{o.render_rate, &settings::kRenderRate},
+        {static_cast<double>(o.iterations), &kIterationsOverride},
+        {static_cast<double>(o.substeps), &kSubstepsOverride},
+        {static_cast<double>(o.max_rollbacks), &settings::kMaxRollbacks},
+        {o.strain_color_scale, &settings::kStrainColorScale},
+        {o.sphere_cull_distance, &settings::kSphereCullDistance},
+        {static_cast<double>(o.max_interactive_pins), &settings::kMaxInteractivePins},
+        {o.summary_period, &settings::kSummaryPeriod},
+        {o.real_time_factor, &settings::kRealTimeFactor},
+        {o.budget_ms, &settings::kFrameBudget},
+        {o.grasp_frame_timeout, &settings::kGraspFrameTimeout},
+        {o.force_arrow_scale, &settings::kForceArrowScale},
+        {o.marker_bandwidth, &settings::kMarkerBandwidth}}) {
+    setting->require(value, "parameter '~" + std::string(setting->param) + "':");
   }
 }
 

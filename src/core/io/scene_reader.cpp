@@ -99,32 +99,26 @@ class Reader {
     return value;
   }
 
-  /// A number allowed by @p setting, else fails with "value V must be RULE".
+  /// A number @p setting allows, else fails with its refusal: "value <v> must be <rule>".
   double number(const YAML::Node& node, const std::string& path, const Setting& setting) const {
-    const double v = number(node, path);
-    if (!setting.range.contains(v)) {
-      fail(path, "value " + show(node) + " must be " + setting.requirement());
-    }
-    return v;
-  }
-
-  /// An integer allowed by @p setting, else fails with "value V must be an integer RULE".
-  int integer(const YAML::Node& node, const std::string& path, const Setting& setting) const {
-    const int value = integer(node, path, "an integer " + setting.requirement());
-    if (!setting.range.contains(value)) {
-      fail(path, "value " + show(node) + " must be an integer " + setting.requirement());
-    }
+    const double value = number(node, path);
+    if (!setting.allows(value)) fail(path, setting.refusal(value, "value"));
     return value;
   }
 
-  /// Any integer (an index the builder checks), else fails with "value V must be @p rule".
-  int integer(const YAML::Node& node, const std::string& path,
-              const std::string& rule = "an integer") const {
-    if (!node.IsScalar()) fail(path, "value " + show(node) + " must be " + rule);
+  /// An integer @p setting (an integer setting) allows, else fails with its refusal.
+  int integer(const YAML::Node& node, const std::string& path, const Setting& setting) const {
+    // Whole and within an int: an integer setting's range ends are ints.
+    return static_cast<int>(number(node, path, setting));
+  }
+
+  /// Any integer (an index the builder checks), else fails with "value V must be an integer".
+  int integer(const YAML::Node& node, const std::string& path) const {
+    if (!node.IsScalar()) fail(path, "value " + show(node) + " must be an integer");
     try {
       return node.as<int>();
     } catch (const std::exception&) {
-      fail(path, "value " + show(node) + " must be " + rule);
+      fail(path, "value " + show(node) + " must be an integer");
     }
   }
 
@@ -254,12 +248,10 @@ TriangleMesh readPlacedMesh(const Reader& r, const YAML::Node& node, const std::
   }
   // Placed, every vertex must still be a point of the scene (settings::kCoordinate).
   const double farthest = mesh.vertices.size() > 0 ? mesh.vertices.cwiseAbs().maxCoeff() : 0.0;
-  if (!settings::kCoordinate.range.contains(farthest)) {
-    std::ostringstream s;
-    s << "value " << scale << " (with the position) puts a vertex of " << resolved << " at "
-      << farthest << " m from the origin on an axis; every coordinate must be "
-      << settings::kCoordinate.requirement();
-    r.fail(path + ".scale", s.str());
+  if (!settings::kCoordinate.allows(farthest)) {
+    r.fail(path + ".scale",
+           "value " + formatNumber(scale) + " (with the position) puts a vertex of " + resolved +
+               " out of the scene: " + settings::kCoordinate.refusal(farthest, "its coordinate"));
   }
   return mesh;
 }
