@@ -46,6 +46,7 @@ add_library(cloth_sim_core
   src/core/solvers/baselines/xpbd_solver.cpp
   src/core/simulation.cpp
   src/core/frame_budget.cpp
+  src/core/io/scene_fields.cpp
   src/core/io/scene_reader.cpp
   src/core/io/scene_builder.cpp
   src/core/io/scene_overrides.cpp
