@@ -12,6 +12,7 @@
 #include "cloth_sim/core/solvers/local_global/lbfgs_solver.h"
 #include "cloth_sim/core/solvers/local_global/local_global_solver.h"
 #include "cloth_sim/core/solvers/newton_solver.h"
+#include "cloth_sim/core/solvers/registry.h"
 #include "reference.h"
 #include "stats.h"
 
@@ -23,24 +24,25 @@ struct Config {
   LinearSolver linear = LinearSolver::kFused;
   bool warm = false;      ///< SolverSettings::warm_start
   bool iterative = true;  ///< false: explicit, one row at "iterations" 1
-  double param = 0.0;     ///< after '@': chebyshev_rho, anderson_window or lbfgs_window; 0 = default
+  /// After '@': the first setting of the solver's own (its registry entry's params:
+  /// chebyshev's rho, anderson's or lbfgs's window) and its value; none when null.
+  const SolverParam* param = nullptr;
+  double param_value = 0.0;
 };
 
 /// Settings @p s with the '@' parameter of @p c applied.
 SolverSettings withParam(SolverSettings s, const Config& c) {
-  if (c.param <= 0.0) return s;
-  if (c.solver == "chebyshev") s.chebyshev_rho = c.param;
-  if (c.solver == "anderson") s.anderson_window = static_cast<int>(c.param);
-  if (c.solver == "lbfgs") s.lbfgs_window = static_cast<int>(c.param);
+  if (c.param != nullptr) s.params.set(*c.param, c.param_value);
   return s;
 }
 
-/// "solver[:linear][+warm][@param]", param: chebyshev's rho, anderson's or lbfgs's window.
+/// "solver[:linear][+warm][@param]", param: the first setting of the solver's own.
 Config configOf(const std::string& label) {
   Config c{label, label};
   const auto at = c.solver.find('@');
+  double param_value = 0.0;
   if (at != std::string::npos) {
-    c.param = std::stod(c.solver.substr(at + 1));
+    param_value = std::stod(c.solver.substr(at + 1));
     c.solver = c.solver.substr(0, at);
   }
   const auto plus = c.solver.find('+');
@@ -54,6 +56,11 @@ Config configOf(const std::string& label) {
     c.solver = c.solver.substr(0, colon);
   }
   c.iterative = c.solver != "explicit_euler" && c.solver != "verlet";
+  const std::vector<const SolverParam*>& params = solverEntry(c.solver).params;
+  if (param_value > 0.0 && !params.empty()) {
+    c.param = params.front();
+    c.param_value = param_value;
+  }
   return c;
 }
 

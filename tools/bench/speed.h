@@ -27,7 +27,8 @@ struct SpeedOptions {
 /// "local_global:cholmod", "local_global:eigen", "local_global_3n", "chebyshev", "anderson",
 /// "lbfgs", "local_global+warm", "chebyshev+warm", "anderson+warm", "lbfgs+warm"
 /// (SolverSettings::warm_start), "newton", "explicit_euler", "verlet". "@p" after a label sets
-/// chebyshev's rho or anderson's or lbfgs's window (SolverSettings).
+/// the first setting of the solver's own (its registry entry's params: chebyshev's rho,
+/// anderson's or lbfgs's window).
 std::vector<std::string> solverLabels();
 
 /// Runs the benchmark and writes speed.csv, traces.csv, references.csv and cases.csv.

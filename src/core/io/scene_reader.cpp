@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cloth_sim/core/io/scene_fields.h"
+#include "cloth_sim/core/solvers/registry.h"
 
 namespace cloth_sim {
 
@@ -16,14 +17,19 @@ PinSelector PinSelector::atVertex(int vertex) {
 
 namespace {
 
+/// solver: {name, iterations, substeps, tolerance, integrator} and, for every solver of the
+/// registry that has settings of its own, its block solver.<name>: {<field>: value, ...}.
 void readSolver(const SceneFields& r, const YAML::Node& node, SimulationOptions& options) {
   const std::string path = "solver";
-  r.map(node, path, {"name", "iterations", "substeps", "tolerance", "integrator", "chebyshev",
-                     "anderson", "lbfgs"});
+  std::set<std::string> keys = {"name", "iterations", "substeps", "tolerance", "integrator"};
+  for (const SolverEntry& entry : solverRegistry()) {
+    if (!entry.params.empty()) keys.insert(entry.name);
+  }
+  r.map(node, path, keys);
   if (node["name"]) {
     options.solver = r.word(node["name"], path + ".name");
     try {
-      makeSolver(options.solver);  // throws the message listing the names
+      solverEntry(options.solver);  // throws the message listing the names
     } catch (const std::invalid_argument& e) {
       r.fail(path + ".name", e.what());
     }
@@ -38,36 +44,28 @@ void readSolver(const SceneFields& r, const YAML::Node& node, SimulationOptions&
     }
   }
   if (node["iterations"]) {
-    s.max_iterations = r.integer(node["iterations"], path + ".iterations", settings::kIterations);
+    s.max_iterations =
+        r.integer(node["iterations"], settings::kIterations.name, settings::kIterations);
   }
   if (node["substeps"]) {
-    s.substeps = r.integer(node["substeps"], path + ".substeps", settings::kSubsteps);
+    s.substeps = r.integer(node["substeps"], settings::kSubsteps.name, settings::kSubsteps);
   }
   if (node["tolerance"]) {
-    s.tolerance = r.number(node["tolerance"], path + ".tolerance", settings::kTolerance);
+    s.tolerance = r.number(node["tolerance"], settings::kTolerance.name, settings::kTolerance);
   }
-  if (const YAML::Node c = node["chebyshev"]) {
-    const std::string cp = path + ".chebyshev";
-    r.map(c, cp, {"rho", "gamma", "delay"});
-    if (c["rho"]) s.chebyshev_rho = r.number(c["rho"], cp + ".rho", settings::kChebyshevRho);
-    if (c["gamma"]) {
-      s.chebyshev_gamma = r.number(c["gamma"], cp + ".gamma", settings::kChebyshevGamma);
+  for (const SolverEntry& entry : solverRegistry()) {
+    const YAML::Node block = node[entry.name];
+    if (!block) continue;
+    const std::string block_path = SceneFields::join(path, entry.name);
+    std::set<std::string> fields;
+    for (const SolverParam* param : entry.params) fields.insert(param->field());
+    r.map(block, block_path, fields);
+    for (const SolverParam* param : entry.params) {
+      const YAML::Node value = block[param->field()];
+      if (!value) continue;
+      s.params.set(*param, param->integer ? r.integer(value, param->name, *param)
+                                          : r.number(value, param->name, *param));
     }
-    if (c["delay"]) {
-      s.chebyshev_delay = r.integer(c["delay"], cp + ".delay", settings::kChebyshevDelay);
-    }
-  }
-  if (const YAML::Node a = node["anderson"]) {
-    const std::string ap = path + ".anderson";
-    r.map(a, ap, {"window"});
-    if (a["window"]) {
-      s.anderson_window = r.integer(a["window"], ap + ".window", settings::kAndersonWindow);
-    }
-  }
-  if (const YAML::Node l = node["lbfgs"]) {
-    const std::string lp = path + ".lbfgs";
-    r.map(l, lp, {"window"});
-    if (l["window"]) s.lbfgs_window = r.integer(l["window"], lp + ".window", settings::kLbfgsWindow);
   }
 }
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "cloth_sim/core/io/scene.h"
+#include "cloth_sim/core/solvers/registry.h"
 #include "test_util.h"
 
 namespace cloth_sim {
@@ -312,6 +313,31 @@ TEST(Scene, TheReaderKeepsPinSelectorsAsData) {
   } catch (const SceneError& e) {
     EXPECT_EQ(e.field(), "pins[0].row");
     EXPECT_STREQ(e.what(), "selectors: field 'pins[0].row': value 9 must be an integer in [0, 3]");
+  }
+}
+
+TEST(Scene, SolverBlocksAreReadFromTheRegistry) {
+  const SceneConfig s = parseScene(
+      "solver: {chebyshev: {rho: 0.5, delay: 4}, lbfgs: {window: 9}}\n" + std::string(kValid),
+      "blocks");
+  const SolverEntry& chebyshev = solverEntry("chebyshev");
+  ASSERT_EQ(chebyshev.params.size(), 3u);
+  EXPECT_EQ(s.options.settings.params.number(*chebyshev.params[0]), 0.5);  // rho
+  EXPECT_EQ(s.options.settings.params.number(*chebyshev.params[1]), 1.0);  // gamma: default
+  EXPECT_EQ(s.options.settings.params.integer(*chebyshev.params[2]), 4);   // delay
+  EXPECT_EQ(s.options.settings.params.integer(*solverEntry("lbfgs").params[0]), 9);
+  try {
+    parseScene("solver: {anderson: {windows: 3}}\n" + std::string(kValid), "blocks");
+    ADD_FAILURE() << "an unknown field of a block accepted";
+  } catch (const SceneError& e) {
+    EXPECT_STREQ(e.what(),
+                 "blocks: field 'solver.anderson.windows': unknown field (known here: window)");
+  }
+  try {  // a solver without settings of its own has no block
+    parseScene("solver: {newton: {window: 3}}\n" + std::string(kValid), "blocks");
+    ADD_FAILURE() << "a block of newton accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.field(), "solver.newton");
   }
 }
 

@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "cloth_sim/core/settings/settings_table.h"
+#include "cloth_sim/core/solvers/local_global/lbfgs_solver.h"
+#include "cloth_sim/core/solvers/local_global/local_global_solver.h"
 #include "cloth_sim/core/solvers/registry.h"
 
 namespace cloth_sim {
@@ -79,9 +81,14 @@ std::vector<double> justOutside(const Setting& s) {
   return values;
 }
 
-/// Every setting of the table.
+/// Every setting: the table's and each solver's own (its registry entry's block).
 std::vector<const Setting*> everySetting() {
-  return {std::begin(settings::kAllSettings), std::end(settings::kAllSettings)};
+  std::vector<const Setting*> all(std::begin(settings::kAllSettings),
+                                  std::end(settings::kAllSettings));
+  for (const SolverEntry& entry : solverRegistry()) {
+    for (const SolverParam* param : entry.params) all.push_back(param);
+  }
+  return all;
 }
 
 TEST(SettingsTable, EveryRefusalNamesTheFieldAndStatesTheRange) {
@@ -136,10 +143,10 @@ TEST(SettingsTable, NamesAreUniqueAndIntegerRangesHaveIntegerEnds) {
 TEST(SettingsTable, SolverSettingsDefaultsAreAllowedAndValidateUsesTheTable) {
   EXPECT_NO_THROW(SolverSettings{}.validate());
   SolverSettings s;
-  s.anderson_window = 51;
+  s.params.set(settings::kAndersonWindow, 51);
   EXPECT_THROW(s.validate(), std::invalid_argument);
   s = SolverSettings{};
-  s.chebyshev_gamma = 0.0;
+  s.params.set(settings::kChebyshevGamma, 0.0);
   EXPECT_THROW(s.validate(), std::invalid_argument);
 }
 

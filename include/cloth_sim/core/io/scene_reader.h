@@ -2,8 +2,8 @@
 /// Scene files (docs/scene_format.md): YAML (yaml-cpp) turned into plain, validated data. The
 /// reader builds nothing: pins stay selectors (vertex, row/col, edge, region) until
 /// scene_builder.h resolves them against the cloth it builds. Each number is checked against its
-/// entry in settings/settings_table.h, the message naming field, value and rule (SceneError,
-/// Setting::refusal). The typed reading
+/// entry in settings/settings_table.h (a solver's block against its registry entry's settings),
+/// the message naming field, value and rule (SceneError, Setting::refusal). The typed reading
 /// of the YAML nodes is scene_fields.h.
 #pragma once
 

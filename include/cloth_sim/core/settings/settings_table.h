@@ -3,7 +3,9 @@
 /// one message that refuses a value outside it (Setting::refusal). The scene reader, the core's
 /// validate functions and setters, the builders, the node's parameters and services, the
 /// runner's options and cfg/ClothSim.cfg (compared by a test) all take their rule and their
-/// message from here. The scene fields are described in docs/scene_format.md.
+/// message from here. The scene fields are described in docs/scene_format.md. A solver's own
+/// settings (its block, solver.<name>.<field>) are Settings too, held by its registry entry
+/// (solvers/registry.h) so that adding a solver stays within solvers/.
 ///
 /// Adding a setting: one line below (and in kAllSettings), then use it where it is read.
 #pragma once
@@ -64,11 +66,6 @@ inline constexpr NameSetting kIntegrator{"solver.integrator", "integrator",
 inline constexpr Setting kIterations{"solver.iterations",       "iterations",           Range::closed(1, 100000),           true,  "",       "",                  "Solver iterations per step (a cap for newton)",     0};
 inline constexpr Setting kSubsteps{"solver.substeps",           "substeps",             Range::closed(1, 1000),             true,  "",       "",                  "Implicit steps per frame (each time_step / substeps)", 0};
 inline constexpr Setting kTolerance{"solver.tolerance",         "",                     Range::atLeast(0),                  false, "",       "",                  "Stop below this relative position change (0 = never)", 0};
-inline constexpr Setting kChebyshevRho{"solver.chebyshev.rho",  "",                     Range{0, 1, false, true},           false, "",       "(0 = the upper bound)",  "Spectral radius of plain local/global",              0};
-inline constexpr Setting kChebyshevGamma{"solver.chebyshev.gamma", "",                  Range{0, 1, true, false},           false, "",       "",                  "Under-relaxation of Wang 2015",                      0};
-inline constexpr Setting kChebyshevDelay{"solver.chebyshev.delay", "",                  Range::closed(1, 1000),             true,  "",       "",                  "Plain iterations before the acceleration starts",    0};
-inline constexpr Setting kAndersonWindow{"solver.anderson.window", "",                  Range::closed(1, 50),               true,  "",       "",                  "Past iterates in Anderson's least-squares model",    0};
-inline constexpr Setting kLbfgsWindow{"solver.lbfgs.window",    "",                     Range::closed(1, 50),               true,  "",       "",                  "(s, t) pairs kept by L-BFGS",                        0};
 inline constexpr Setting kTimeStep{"time_step",                 "",                     Range::closed(1e-6, 1),             false, "s",      "",                  "Time step h",                                        0};
 inline constexpr Setting kModelStep{"model.time_step",          "",                     Range{0, 1, true, false},           false, "s",      "",                  "A model's step: the frame (time_step) when built, time_step / substeps in a run", 0};
 inline constexpr Setting kDivergenceStrain{"divergence_strain", "",                     Range::atLeast(1),                  false, "",       "(1 = 100 %)",       "Strain beyond which a step counts as diverged",      0};
@@ -112,20 +109,19 @@ inline constexpr Setting kFoldTime{"fold",                      "",             
 inline constexpr Setting kCoordinate{"position",                "",                     Range::closed(-1e6, 1e6),           false, "m",      "",                  "Any coordinate of a scene (positions, centres, targets, corners, ground height)", 0};
 inline constexpr Setting kGravity{"gravity",                    "",                     Range::closed(-1e3, 1e3),           false, "m/s^2",  "(per axis)",        "Gravity, each component",                            0};
 
-/// Every setting above, in that order.
+/// Every setting above, in that order (a solver's own settings are in its registry entry).
 inline constexpr const Setting* kAllSettings[] = {
-    &kIterations, &kSubsteps, &kTolerance, &kChebyshevRho,
-    &kChebyshevGamma, &kChebyshevDelay, &kAndersonWindow, &kLbfgsWindow,
-    &kTimeStep, &kModelStep, &kDivergenceStrain, &kArealDensity,
-    &kDamping, &kStructuralStiffness, &kShearStiffness, &kBendingStiffness,
-    &kParticleMass, &kRestLength, &kGridResolution, &kGridSize,
-    &kMeshScale, &kMeshThickness, &kPinStiffness, &kSphereRadius,
-    &kSphereMass, &kRestitution, &kFriction, &kSelfThickness,
-    &kSelfFriction, &kGraspRadius, &kRealTimeFactor, &kGraspFrameTimeout,
-    &kFrameBudget, &kForceArrowScale, &kRenderRate, &kMarkerBandwidth,
-    &kMaxRollbacks, &kStrainColorScale, &kSphereCullDistance, &kMaxInteractivePins,
-    &kSummaryPeriod, &kRunDuration, &kRunFrames, &kFoldTime,
-    &kCoordinate, &kGravity};
+    &kIterations, &kSubsteps, &kTolerance, &kTimeStep,
+    &kModelStep, &kDivergenceStrain, &kArealDensity, &kDamping,
+    &kStructuralStiffness, &kShearStiffness, &kBendingStiffness, &kParticleMass,
+    &kRestLength, &kGridResolution, &kGridSize, &kMeshScale,
+    &kMeshThickness, &kPinStiffness, &kSphereRadius, &kSphereMass,
+    &kRestitution, &kFriction, &kSelfThickness, &kSelfFriction,
+    &kGraspRadius, &kRealTimeFactor, &kGraspFrameTimeout, &kFrameBudget,
+    &kForceArrowScale, &kRenderRate, &kMarkerBandwidth, &kMaxRollbacks,
+    &kStrainColorScale, &kSphereCullDistance, &kMaxInteractivePins, &kSummaryPeriod,
+    &kRunDuration, &kRunFrames, &kFoldTime, &kCoordinate,
+    &kGravity};
 // clang-format on
 }  // namespace settings
 
