@@ -34,6 +34,7 @@ bool SolverCapabilities::supports(Integrator integrator) const {
 }
 
 const std::vector<SolverEntry>& solverRegistry() {
+  // Names and descriptions are also in registry.yaml (read by cfg/ClothSim.cfg), in this order.
   // clang-format off
   static const std::vector<SolverEntry> registry = {
       {"explicit_euler", "symplectic Euler (unstable on stiff cloth)", make<ExplicitEulerSolver>,

@@ -1,9 +1,10 @@
-// The solver registry: each entry's own settings, and each entry's capabilities against what its
-// solver's step does.
+// The solver registry: its data file (read by cfg/ClothSim.cfg), each entry's own settings, and
+// each entry's capabilities against what its solver's step does.
 #include <set>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include "cloth_sim/core/collision/contact_forces.h"
 #include "cloth_sim/core/solvers/registry.h"
@@ -11,6 +12,16 @@
 
 namespace cloth_sim {
 namespace {
+
+TEST(SolverRegistry, TheDataFileListsTheRegistryInOrder) {
+  const YAML::Node file = YAML::LoadFile(test::sourcePath("src/core/solvers/registry.yaml"));
+  ASSERT_TRUE(file.IsSequence());
+  ASSERT_EQ(file.size(), solverRegistry().size());
+  for (std::size_t k = 0; k < file.size(); ++k) {
+    EXPECT_EQ(file[k]["name"].as<std::string>(), solverRegistry()[k].name);
+    EXPECT_EQ(file[k]["description"].as<std::string>(), solverRegistry()[k].description);
+  }
+}
 
 TEST(SolverRegistry, EachSolversOwnSettingsAreNamedAfterItAndDefaultToAnAllowedValue) {
   for (const SolverEntry& entry : solverRegistry()) {

@@ -2,9 +2,9 @@
 /// The solvers selectable by name: the only list of solvers. Each entry carries what the rest of
 /// the code may know of its solver: its name and doc line, its capabilities and its own
 /// settings (its block). makeSolver, solverNames, the scene reader (solver.name and the
-/// solver.<name>.<field> blocks), the node's ~solver and reconfigure enum and the runner's
-/// --solver follow it (cfg/ClothSim.cfg is compared with it by
-/// test/node/reconfigure_cfg_test.cpp).
+/// solver.<name>.<field> blocks), the node's ~solver, the runner's --solver and the benchmark's
+/// lists follow it; cfg/ClothSim.cfg reads its solver enum from registry.yaml next to
+/// registry.cpp, which test/core/solvers/registry_test.cpp compares with this registry.
 #pragma once
 
 #include <memory>
