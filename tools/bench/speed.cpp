@@ -23,7 +23,7 @@ struct Config {
   std::string label, solver;
   LinearSolver linear = LinearSolver::kFused;
   bool warm = false;      ///< SolverSettings::warm_start
-  bool iterative = true;  ///< false: explicit, one row at "iterations" 1
+  bool iterative = true;  ///< false: no iterations to set (explicit), one row at "iterations" 1
   /// After '@': the first setting of the solver's own (its registry entry's params:
   /// chebyshev's rho, anderson's or lbfgs's window) and its value; none when null.
   const SolverParam* param = nullptr;
@@ -55,10 +55,10 @@ Config configOf(const std::string& label) {
     c.linear = linearSolverFromName(c.solver.substr(colon + 1));
     c.solver = c.solver.substr(0, colon);
   }
-  c.iterative = c.solver != "explicit_euler" && c.solver != "verlet";
-  const std::vector<const SolverParam*>& params = solverEntry(c.solver).params;
-  if (param_value > 0.0 && !params.empty()) {
-    c.param = params.front();
+  const SolverEntry& entry = solverEntry(c.solver);
+  c.iterative = entry.capabilities.iterations;
+  if (param_value > 0.0 && !entry.params.empty()) {
+    c.param = entry.params.front();
     c.param_value = param_value;
   }
   return c;
@@ -206,10 +206,23 @@ void writeRow(std::ofstream& out, const BenchCase& bc, const Model& model, const
 }  // namespace
 
 std::vector<std::string> solverLabels() {
-  return {"local_global",   "local_global:cholmod", "local_global:eigen", "local_global_3n",
-          "chebyshev",      "anderson",             "local_global+warm",  "chebyshev+warm",
-          "anderson+warm",  "lbfgs",                "lbfgs+warm",         "newton",
-          "explicit_euler", "verlet"};
+  // Every solver of the registry; warm-started too where that applies; the default solver
+  // with each other linear solver.
+  const std::string default_solver = SimulationOptions{}.solver;
+  std::vector<std::string> labels;
+  for (const SolverEntry& entry : solverRegistry()) {
+    labels.emplace_back(entry.name);
+    if (entry.name != default_solver) continue;
+    for (LinearSolver linear : kLinearSolvers) {
+      if (linear != SolverSettings{}.linear_solver) {
+        labels.push_back(default_solver + ":" + linearSolverName(linear));
+      }
+    }
+  }
+  for (const SolverEntry& entry : solverRegistry()) {
+    if (entry.capabilities.warm_start) labels.push_back(std::string(entry.name) + "+warm");
+  }
+  return labels;
 }
 
 void runSpeed(const SpeedOptions& o) {
@@ -231,7 +244,8 @@ void runSpeed(const SpeedOptions& o) {
   const std::vector<std::string> labels = o.solvers.empty() ? solverLabels() : o.solvers;
 
   for (const BenchCase& bc : all) {
-    // Common start states: the scene's default solver, sampled along its trajectory.
+    // Common start states: local_global (its factor is reported below), sampled along its
+    // trajectory.
     Simulation sim = makeSimulation(withSolver(bc.config, "local_global", 10, LinearSolver::kFused));
     const Model model = sim.model();
     const PinSet pins = sim.pins();

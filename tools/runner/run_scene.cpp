@@ -13,6 +13,7 @@
 
 #include "cloth_sim/core/io/scene.h"
 #include "cloth_sim/core/settings/settings_table.h"
+#include "cloth_sim/core/solvers/registry.h"
 #include "fold_script.h"
 #include "step_log.h"
 
@@ -119,7 +120,8 @@ int main(int argc, char** argv) {
   app.add_option("--json", o.json, "per-step JSON to this file ('-' = stdout)")->excludes(csv);
   app.add_option("--positions", o.positions, "final positions (CSV: particle,x,y,z in m) to this file");
   app.add_flag("--warm-start", o.warm_start,
-               "local_global, chebyshev, anderson, lbfgs: start from y + the previous step's correction");
+               listed(solverNamesWith(&SolverCapabilities::warm_start)) +
+                   ": start from y + the previous step's correction");
   app.add_flag("--quiet", o.quiet, "no per-second summary on stdout");
   app.add_option("--self-collision", o.self_collision,
                  "on or off (default: the scene's self_collision)")

@@ -67,6 +67,14 @@ std::vector<std::string> solverNames() {
   return names;
 }
 
+std::vector<std::string> solverNamesWith(bool SolverCapabilities::*capability) {
+  std::vector<std::string> names;
+  for (const SolverEntry& entry : solverRegistry()) {
+    if (entry.capabilities.*capability) names.emplace_back(entry.name);
+  }
+  return names;
+}
+
 const SolverEntry* findSolver(const std::string& name) {
   for (const SolverEntry& entry : solverRegistry()) {
     if (name == entry.name) return &entry;

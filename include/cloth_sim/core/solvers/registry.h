@@ -49,6 +49,9 @@ struct SolverEntry {
 
 /// Every solver, in the order users see them (explicit baselines first, then the implicit ones).
 const std::vector<SolverEntry>& solverRegistry();
+/// The names of the solvers whose capabilities have @p capability (e.g.
+/// &SolverCapabilities::warm_start), in registry order.
+std::vector<std::string> solverNamesWith(bool SolverCapabilities::*capability);
 /// The entry called @p name, or nullptr.
 const SolverEntry* findSolver(const std::string& name);
 /// The entry called @p name; throws std::invalid_argument listing the names if there is none.
