@@ -75,15 +75,16 @@ Trajectory run(SceneConfig scene, const Config& config, const std::vector<int>& 
   // Substeps as the user sets them (solver.substeps); a reference finer than that setting
   // allows takes the frame as its step instead (nothing moves kinematically in these scenes).
   const bool as_setting = settings::kSubsteps.allows(config.substeps);
-  scene.options.settings.substeps = as_setting ? config.substeps : 1;
-  if (!as_setting) scene.time_step /= config.substeps;
+  SceneOverrides overrides;
+  overrides.substeps = as_setting ? config.substeps : 1;
+  if (!as_setting) overrides.time_step = scene.time_step / config.substeps;
   const int steps_per_frame = as_setting ? 1 : config.substeps;
-  scene.options.solver = config.solver;
-  scene.options.settings.max_iterations = config.iterations;
-  scene.options.settings.tolerance = config.tolerance;
-  scene.options.settings.integrator = config.integrator;
-  scene.options.settings.warm_start = config.warm;
-  Simulation sim = makeSimulation(scene);
+  overrides.solver = config.solver;
+  overrides.iterations = config.iterations;
+  overrides.tolerance = config.tolerance;
+  overrides.integrator = config.integrator;
+  overrides.warm_start = config.warm;
+  Simulation sim = makeSimulation(applyOverrides(std::move(scene), overrides));
   Trajectory t;
   std::size_t next = 0;
   for (int f = 1; next < sample_frames.size(); ++f) {

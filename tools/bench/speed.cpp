@@ -189,6 +189,17 @@ void traceErrors(const std::string& case_name, const Config& c, const Model& mod
   }
 }
 
+/// @p config with the solver, iterations, linear solver, warm start and '@' parameter of @p c.
+SceneConfig withSolver(const SceneConfig& config, const Config& c, int iterations) {
+  SceneOverrides overrides;
+  overrides.solver = c.solver;
+  overrides.iterations = iterations;
+  overrides.linear_solver = c.linear;
+  overrides.warm_start = c.warm;
+  if (c.param != nullptr) overrides.params.emplace_back(c.param, c.param_value);
+  return applyOverrides(config, overrides);
+}
+
 void writeRow(std::ofstream& out, const BenchCase& bc, const Model& model, const Config& c,
               int iterations, const TimedRun& run, const std::vector<double>& e_g,
               const std::vector<double>& e_x, bool refs_converged) {
@@ -290,9 +301,7 @@ void runSpeed(const SpeedOptions& o) {
                                     : decltype(newtonErrors(counts, model, pins, samples)){};
       for (int iterations : counts) {
         const double t0 = now();
-        SceneConfig timed = withSolver(bc.config, c.solver, iterations, c.linear, c.warm);
-        timed.options.settings = withParam(timed.options.settings, c);
-        const TimedRun run = timeRun(timed, o);
+        const TimedRun run = timeRun(withSolver(bc.config, c, iterations), o);
         std::vector<double> e_g = is_newton ? newton.at(iterations).first : std::vector<double>();
         std::vector<double> e_x = is_newton ? newton.at(iterations).second : std::vector<double>();
         if (!is_newton) measureErrors(c, iterations, model, pins, samples, e_g, e_x);

@@ -127,7 +127,8 @@ int main(int argc, char** argv) {
                  "on or off (default: the scene's self_collision)")
       ->check(CLI::IsMember({"on", "off"}));
   app.add_option("--resolution", o.resolution,
-                 "grid cloth: rows = cols = this; self_collision.thickness becomes automatic")
+                 "grid cloth: rows = cols = this, pins moved to the same place on the sheet; "
+                 "self_collision.thickness becomes automatic")
       ->check(allowedBy(settings::kGridResolution));
   app.add_option("--fold", o.fold,
                  "carry the scene's first pin over the cloth to the vertex farthest from it in "
@@ -157,6 +158,7 @@ int main(int argc, char** argv) {
     if (!o.integrator.empty()) overrides.integrator = integratorFromName(o.integrator);
     if (o.warm_start) overrides.warm_start = true;
     if (!o.self_collision.empty()) overrides.self_collision = o.self_collision == "on";
+    overrides.resolution = o.resolution;
     SceneConfig loaded;
     try {
       loaded = loadSceneFile(o.scene_path);
@@ -164,14 +166,11 @@ int main(int argc, char** argv) {
       const std::string what = e.what();  // long only when the path is: cut it then
       throw std::runtime_error("--scene " + (what.size() <= 16 * kShown ? what : clip(what)));
     }
-    SceneConfig scene = applyOverrides(std::move(loaded), overrides);
-    if (o.resolution) {
-      if (scene.cloth_kind != SceneConfig::ClothKind::kGrid) {
-        throw std::invalid_argument("--resolution needs a grid cloth; " + o.scene_path +
-                                    " has a mesh");
-      }
-      scene.grid.rows = scene.grid.cols = *o.resolution;
-      scene.options.self_contact.thickness = 0.0;  // the scene's was for its own spacing
+    SceneConfig scene;
+    try {
+      scene = applyOverrides(std::move(loaded), overrides);
+    } catch (const SceneError& e) {  // only --resolution can be refused here
+      throw std::runtime_error(std::string("--resolution: ") + e.what());
     }
     Simulation sim = makeSimulation(scene);
     if (o.check) return 0;  // the scene and the options are usable (scripts/run_demo.sh)

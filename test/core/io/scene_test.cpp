@@ -341,5 +341,29 @@ TEST(Scene, SolverBlocksAreReadFromTheRegistry) {
   }
 }
 
+TEST(SceneOverrides, AResolutionKeepsPinsWhereTheyAreOnTheSheet) {
+  SceneConfig scene = parseScene(std::string(kValid) +
+                                     "pins: [{row: 3, col: 4}, {vertex: 4}, {edge: top}]\n"
+                                     "self_collision: {thickness: 0.2}\n",
+                                 "resized");
+  ASSERT_EQ(scene.grid.rows, 4);
+  ASSERT_EQ(scene.grid.cols, 5);
+  SceneOverrides overrides;
+  overrides.resolution = 7;
+  const SceneConfig resized = applyOverrides(scene, overrides);
+  EXPECT_EQ(resized.grid.rows, 7);
+  EXPECT_EQ(resized.grid.cols, 7);
+  EXPECT_EQ(resized.pins[0].row, 6);  // the far corner stays the far corner
+  EXPECT_EQ(resized.pins[0].col, 6);
+  EXPECT_EQ(resized.pins[1].vertex, 6);  // row 0, last column
+  EXPECT_EQ(resized.pins[2].edge, "top");
+  EXPECT_EQ(resized.options.self_contact.thickness, 0.0);  // automatic at the new spacing
+  EXPECT_NO_THROW(makeSimulation(resized));
+
+  SceneConfig mesh = scene;
+  mesh.cloth_kind = SceneConfig::ClothKind::kMesh;
+  EXPECT_THROW(applyOverrides(mesh, overrides), SceneError);
+}
+
 }  // namespace
 }  // namespace cloth_sim
