@@ -1,5 +1,7 @@
 #include "cloth_sim/node/options.h"
 
+#include <algorithm>
+#include <filesystem>
 #include <stdexcept>
 
 #include "cloth_sim/core/settings/settings_table.h"
@@ -22,6 +24,12 @@ constexpr Setting kIterationsOverride{
 constexpr Setting kSubstepsOverride{
     "substeps", "substeps", Range::closed(0, settings::kSubsteps.range.max), true, "",
     "(0 = the scene's)", "replaces the scene's substeps per frame when > 0", 0};
+
+/// Whether ~scene is the bare name of a shipped scene: no '/' and no ".yaml".
+bool isSceneName(const std::string& scene) {
+  return scene.find('/') == std::string::npos &&
+         (scene.size() < 5 || scene.compare(scene.size() - 5, 5, ".yaml") != 0);
+}
 
 const char* typeName(XmlRpc::XmlRpcValue::Type type) {
   switch (type) {
@@ -126,8 +134,9 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
 
 void validateNodeOptions(const NodeOptions& o) {
   if (o.scene.empty()) {
-    fail("scene", "is required: a scene YAML file or the name of a shipped scene "
-                  "(hanging, drape, trampoline, stiff, gravity_well, tablecloth)");
+    fail("scene",
+         "is required: a scene YAML file or the name of a shipped scene (a file of the "
+         "package's config/scenes/ without its .yaml)");
   }
   if (o.frame_id.empty() || o.frame_id.front() == '/') {
     fail("frame_id", "'" + o.frame_id + "' must be a non-empty tf2 frame name without a "
@@ -165,9 +174,17 @@ void validateNodeOptions(const NodeOptions& o) {
 }
 
 std::string resolveScenePath(const std::string& scene, const std::string& scene_dir) {
-  const bool is_name = scene.find('/') == std::string::npos &&
-                       (scene.size() < 5 || scene.compare(scene.size() - 5, 5, ".yaml") != 0);
-  return is_name ? scene_dir + "/" + scene + ".yaml" : scene;
+  return isSceneName(scene) ? scene_dir + "/" + scene + ".yaml" : scene;
+}
+
+std::vector<std::string> shippedScenes(const std::string& scene_dir) {
+  std::vector<std::string> names;
+  std::error_code error;  // a missing directory ships no scene
+  for (const auto& entry : std::filesystem::directory_iterator(scene_dir, error)) {
+    if (entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
 }
 
 SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir) {
@@ -175,7 +192,15 @@ SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir) 
   try {
     scene = loadSceneFile(resolveScenePath(options.scene, scene_dir));
   } catch (const SceneError& e) {
-    fail("scene", e.what());
+    std::string problem = e.what();
+    const std::vector<std::string> shipped = shippedScenes(scene_dir);
+    if (isSceneName(options.scene) &&
+        std::find(shipped.begin(), shipped.end(), options.scene) == shipped.end()) {
+      std::string list;
+      for (const std::string& name : shipped) list += (list.empty() ? "" : ", ") + name;
+      problem += " (the shipped scenes: " + list + ")";
+    }
+    fail("scene", problem);
   }
   SceneOverrides overrides;
   if (!options.solver.empty()) overrides.solver = options.solver;

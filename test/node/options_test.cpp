@@ -1,10 +1,12 @@
 // NodeOptions: parsing from the private namespace, validation and scene loading, no master.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -217,6 +219,18 @@ TEST(LoadScene, AMissingFileIsRefusedNamingTheParameterAndThePath) {
   const std::string m = loadError("no_such_scene");
   EXPECT_NE(m.find("parameter '~scene'"), std::string::npos) << m;
   EXPECT_NE(m.find("no_such_scene.yaml"), std::string::npos) << m;
+}
+
+TEST(LoadScene, EveryShippedSceneLoadsByNameAndAnUnknownNameListsThem) {
+  const std::vector<std::string> shipped = shippedScenes(kSceneDir);
+  EXPECT_GE(shipped.size(), 10u);  // config/scenes/ as of this test: hanging ... grasp_demo
+  EXPECT_TRUE(std::is_sorted(shipped.begin(), shipped.end()));
+  const std::string m = loadError("no_such_scene");
+  for (const std::string& name : shipped) {
+    EXPECT_EQ(loadError(name), "") << name;
+    EXPECT_NE(m.find(name), std::string::npos) << name << " not listed in: " << m;
+  }
+  EXPECT_EQ(loadError("/nonexistent/x.yaml").find("shipped"), std::string::npos);  // a path
 }
 
 TEST(LoadScene, AnInvalidFileIsRefusedNamingTheParameterAndTheField) {

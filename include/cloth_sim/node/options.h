@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <xmlrpcpp/XmlRpcValue.h>
 
@@ -96,9 +97,13 @@ void validateNodeOptions(const NodeOptions& options);
 /// <scene_dir>/<name>.yaml; anything else is a path and is returned as given.
 std::string resolveScenePath(const std::string& scene, const std::string& scene_dir);
 
-/// Loads the scene file of @p options (resolved against @p scene_dir) and applies ~solver and
-/// ~iterations to it (checked by validateNodeOptions). Throws std::invalid_argument
-/// "parameter '~scene': <what is wrong>" for a missing or invalid file.
+/// The shipped scenes: the stems of the .yaml files in @p scene_dir, sorted ("drape", ...).
+std::vector<std::string> shippedScenes(const std::string& scene_dir);
+
+/// Loads the scene file of @p options (resolved against @p scene_dir) and applies ~solver,
+/// ~iterations, ~substeps and ~self_collision to it (checked by validateNodeOptions). Throws
+/// std::invalid_argument "parameter '~scene': <what is wrong>" for a missing or invalid file; a
+/// bare name that is no shipped scene gets the list of shipped scenes (shippedScenes).
 SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir);
 
 /// The simulation of @p scene (from loadScene). Throws std::invalid_argument
