@@ -51,6 +51,7 @@ add_library(cloth_sim_core
   src/core/simulation/substep.cpp
   src/core/simulation/simulation.cpp
   src/core/simulation/frame_budget.cpp
+  src/core/io/scene_fields.cpp
   src/core/io/scene_reader.cpp
   src/core/io/scene_builder.cpp
   src/core/io/scene_overrides.cpp
@@ -86,7 +87,7 @@ if(CATKIN_ENABLE_TESTING)
     collision/cell_hash_test collision/triangle_intersection_test collision/self_contact_test
     collision/self_contact_scenes_test
     solvers/implicit_euler_problem_test solvers/newton_solver_test solvers/revision_cache_test
-    solvers/bdf2_test solvers/midpoint_test solvers/midpoint_safeguard_test
+    solvers/bdf2_test solvers/midpoint_test solvers/midpoint_safeguard_test solvers/registry_test
     solvers/local_global/local_step_test solvers/local_global/global_system_test
     solvers/local_global/local_global_solver_test
     solvers/baselines/explicit_solvers_test solvers/baselines/local_global_3n_solver_test

@@ -30,21 +30,6 @@ Vec3 toVec3(const geometry_msgs::Vector3& v) { return Vec3(v.x, v.y, v.z); }
 geometry_msgs::Point toPointMsg(const Vec3& v) { return xyzMsg<geometry_msgs::Point>(v); }
 geometry_msgs::Vector3 toVector3Msg(const Vec3& v) { return xyzMsg<geometry_msgs::Vector3>(v); }
 
-std::string violation(double value, const Setting& setting) {
-  if (setting.range.contains(value)) return "";
-  std::string text = str(value);
-  if (*setting.unit != '\0') text += std::string(" ") + setting.unit;
-  text += std::string(" must be ") + (setting.range.bounded() ? "" : "finite and ") +
-          setting.range.rule();
-  if (*setting.note != '\0') text += std::string(" ") + setting.note;
-  return text;
-}
-
-void requireAllowed(const std::string& what, double value, const Setting& setting) {
-  const std::string problem = violation(value, setting);
-  if (!problem.empty()) throw std::invalid_argument(what + " " + problem);
-}
-
 void requireFinite(const Vec3& v, const std::string& what) {
   if (!v.allFinite()) {
     throw std::invalid_argument(what + " (" + str(v.x()) + ", " + str(v.y()) + ", " +
@@ -54,10 +39,10 @@ void requireFinite(const Vec3& v, const std::string& what) {
 
 SphereCollider sphereFromRequest(const SpawnSphere::Request& request, const Vec3& center,
                                  const Vec3& velocity) {
-  requireAllowed("radius", request.radius, settings::kSphereRadius);
-  requireAllowed("mass", request.mass, settings::kSphereMass);
-  requireAllowed("friction", request.friction, settings::kFriction);
-  requireAllowed("restitution", request.restitution, settings::kRestitution);
+  settings::kSphereRadius.require(request.radius, "radius");
+  settings::kSphereMass.require(request.mass, "mass");
+  settings::kFriction.require(request.friction, "friction");
+  settings::kRestitution.require(request.restitution, "restitution");
   requireFinite(center, "center");
   requireFinite(velocity, "velocity");
   SphereCollider sphere;

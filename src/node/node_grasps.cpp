@@ -15,7 +15,7 @@ namespace cloth_sim::node {
 std::vector<int> ClothSimNode::selectParticles(const AddGrasp::Request& req,
                                                const Vec3& point) const {
   if (!req.vertices.empty()) return req.vertices;  // Simulation::addGrasp checks them
-  requireAllowed("radius", req.radius, settings::kGraspRadius);
+  settings::kGraspRadius.require(req.radius, "radius");
   const Points& x = sim_.state().positions;
   std::vector<int> chosen;
   int nearest = -1;

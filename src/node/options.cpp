@@ -1,12 +1,11 @@
 #include "cloth_sim/node/options.h"
 
-#include <cmath>
-#include <sstream>
+#include <algorithm>
+#include <filesystem>
 #include <stdexcept>
 
 #include "cloth_sim/core/settings/settings_table.h"
 #include "cloth_sim/core/solvers/solver.h"
-#include "cloth_sim/node/conversions.h"
 #include "cloth_sim/node/marker_builder.h"
 
 namespace cloth_sim::node {
@@ -25,6 +24,12 @@ constexpr Setting kIterationsOverride{
 constexpr Setting kSubstepsOverride{
     "substeps", "substeps", Range::closed(0, settings::kSubsteps.range.max), true, "",
     "(0 = the scene's)", "replaces the scene's substeps per frame when > 0", 0};
+
+/// Whether ~scene is the bare name of a shipped scene: no '/' and no ".yaml".
+bool isSceneName(const std::string& scene) {
+  return scene.find('/') == std::string::npos &&
+         (scene.size() < 5 || scene.compare(scene.size() - 5, 5, ".yaml") != 0);
+}
 
 const char* typeName(XmlRpc::XmlRpcValue::Type type) {
   switch (type) {
@@ -89,13 +94,6 @@ class ParamReader {
   XmlRpc::XmlRpcValue params_;
 };
 
-template <class T>
-std::string str(const T& value) {
-  std::ostringstream s;
-  s << value;
-  return s.str();
-}
-
 }  // namespace
 
 NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
@@ -136,15 +134,13 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
 
 void validateNodeOptions(const NodeOptions& o) {
   if (o.scene.empty()) {
-    fail("scene", "is required: a scene YAML file or the name of a shipped scene "
-                  "(hanging, drape, trampoline, stiff, gravity_well, tablecloth)");
+    fail("scene",
+         "is required: a scene YAML file or the name of a shipped scene (a file of the "
+         "package's config/scenes/ without its .yaml)");
   }
   if (o.frame_id.empty() || o.frame_id.front() == '/') {
     fail("frame_id", "'" + o.frame_id + "' must be a non-empty tf2 frame name without a "
                      "leading '/'");
-  }
-  if (!std::isfinite(o.render_rate) || o.render_rate <= 0.0 || o.render_rate > 1000.0) {
-    fail("render_rate", str(o.render_rate) + " must be in (0, 1000] Hz");
   }
   if (!o.solver.empty()) {
     try {
@@ -153,45 +149,42 @@ void validateNodeOptions(const NodeOptions& o) {
       fail("solver", e.what());
     }
   }
-  const std::string iterations_problem = violation(o.iterations, kIterationsOverride);
-  if (!iterations_problem.empty()) fail("iterations", iterations_problem);
-  const std::string substeps_problem = violation(o.substeps, kSubstepsOverride);
-  if (!substeps_problem.empty()) fail("substeps", substeps_problem);
-  if (o.max_rollbacks < 1) fail("max_rollbacks", str(o.max_rollbacks) + " must be >= 1");
-  if (!std::isfinite(o.strain_color_scale) || o.strain_color_scale <= 0.0) {
-    fail("strain_color_scale", str(o.strain_color_scale) + " must be finite and > 0");
-  }
-  if (!std::isfinite(o.sphere_cull_distance) || o.sphere_cull_distance <= 0.0) {
-    fail("sphere_cull_distance", str(o.sphere_cull_distance) + " m must be finite and > 0");
-  }
-  if (o.max_interactive_pins < 0) {
-    fail("max_interactive_pins", str(o.max_interactive_pins) + " must be >= 0 (0 = none)");
-  }
   try {
     colorModeFromName(o.color_mode);
   } catch (const std::invalid_argument& e) {
     fail("color_mode", e.what());
   }
-  if (!std::isfinite(o.marker_bandwidth) || o.marker_bandwidth <= 0.0) {
-    fail("marker_bandwidth", str(o.marker_bandwidth) + " bytes/s must be finite and > 0");
-  }
-  if (!std::isfinite(o.summary_period) || o.summary_period < 0.0) {
-    fail("summary_period", str(o.summary_period) + " s must be finite and >= 0 (0 = off)");
-  }
+  // Every number against its rule, in the order of NodeOptions.
   for (const auto& [value, setting] :
-       {std::pair{o.real_time_factor, &settings::kRealTimeFactor},
-        std::pair{o.grasp_frame_timeout, &settings::kGraspFrameTimeout},
-        std::pair{o.force_arrow_scale, &settings::kForceArrowScale},
-        std::pair{o.budget_ms, &settings::kFrameBudget}}) {
-    const std::string problem = violation(value, *setting);
-    if (!problem.empty()) fail(setting->param, problem);
+       {std::pair<double, const Setting*>{o.render_rate, &settings::kRenderRate},
+        {static_cast<double>(o.iterations), &kIterationsOverride},
+        {static_cast<double>(o.substeps), &kSubstepsOverride},
+        {static_cast<double>(o.max_rollbacks), &settings::kMaxRollbacks},
+        {o.strain_color_scale, &settings::kStrainColorScale},
+        {o.sphere_cull_distance, &settings::kSphereCullDistance},
+        {static_cast<double>(o.max_interactive_pins), &settings::kMaxInteractivePins},
+        {o.summary_period, &settings::kSummaryPeriod},
+        {o.real_time_factor, &settings::kRealTimeFactor},
+        {o.budget_ms, &settings::kFrameBudget},
+        {o.grasp_frame_timeout, &settings::kGraspFrameTimeout},
+        {o.force_arrow_scale, &settings::kForceArrowScale},
+        {o.marker_bandwidth, &settings::kMarkerBandwidth}}) {
+    setting->require(value, "parameter '~" + std::string(setting->param) + "':");
   }
 }
 
 std::string resolveScenePath(const std::string& scene, const std::string& scene_dir) {
-  const bool is_name = scene.find('/') == std::string::npos &&
-                       (scene.size() < 5 || scene.compare(scene.size() - 5, 5, ".yaml") != 0);
-  return is_name ? scene_dir + "/" + scene + ".yaml" : scene;
+  return isSceneName(scene) ? scene_dir + "/" + scene + ".yaml" : scene;
+}
+
+std::vector<std::string> shippedScenes(const std::string& scene_dir) {
+  std::vector<std::string> names;
+  std::error_code error;  // a missing directory ships no scene
+  for (const auto& entry : std::filesystem::directory_iterator(scene_dir, error)) {
+    if (entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
 }
 
 SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir) {
@@ -199,7 +192,15 @@ SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir) 
   try {
     scene = loadSceneFile(resolveScenePath(options.scene, scene_dir));
   } catch (const SceneError& e) {
-    fail("scene", e.what());
+    std::string problem = e.what();
+    const std::vector<std::string> shipped = shippedScenes(scene_dir);
+    if (isSceneName(options.scene) &&
+        std::find(shipped.begin(), shipped.end(), options.scene) == shipped.end()) {
+      std::string list;
+      for (const std::string& name : shipped) list += (list.empty() ? "" : ", ") + name;
+      problem += " (the shipped scenes: " + list + ")";
+    }
+    fail("scene", problem);
   }
   SceneOverrides overrides;
   if (!options.solver.empty()) overrides.solver = options.solver;

@@ -53,8 +53,8 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   probe();
   const auto ok = stamped("world", 0.0, 0.0, 1.0);
   std::vector<std::pair<SpawnSphere::Request, std::string>> cases = {
-      {sphere(ok, 0.0), "radius 0 m must be in (0, 1e+06]"},
-      {sphere(ok, -0.1), "radius -0.1 m must be in (0, 1e+06]"},
+      {sphere(ok, 0.0), "radius 0 must be in (0, 1e+06] m"},
+      {sphere(ok, -0.1), "radius -0.1 must be in (0, 1e+06] m"},
       {sphere(ok, kNaN), "radius nan m"},
       {sphere(stamped("world", kNaN, 0.0, 1.0), 0.1), "center (nan, 0, 1) is not finite"},
       {sphere(stamped("nowhere", 0.0, 0.0, 1.0), 0.1), "center: frame 'nowhere' is unknown"},
@@ -62,7 +62,7 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   };
   SpawnSphere::Request r = sphere(ok, 0.1);
   r.mass = -1.0;
-  cases.emplace_back(r, "mass -1 kg must be in [0, 1e+09] (0 = kinematic)");
+  cases.emplace_back(r, "mass -1 must be in [0, 1e+09] kg (0 = kinematic)");
   r.mass = 2.0;
   r.restitution = 1.5;
   cases.emplace_back(r, "restitution 1.5 must be in [0, 1]");
@@ -88,7 +88,7 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
     expectRefused(res, why);
   }
   // A refused service call is logged too.
-  EXPECT_TRUE(probe().waitForLog("cloth/spawn_sphere: radius 0 m must be in (0, 1e+06]", 5.0));
+  EXPECT_TRUE(probe().waitForLog("cloth/spawn_sphere: radius 0 must be in (0, 1e+06] m", 5.0));
 }
 
 TEST(BadInput, RemoveSphereAndRemovePinRefuseUnknownIds) {

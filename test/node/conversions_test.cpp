@@ -72,12 +72,12 @@ TEST(Conversions, EveryBadSphereRequestIsRefusedSayingWhy) {
   };
   const Vec3 o = Vec3::Zero();
   const Case cases[] = {
-      {sphereRequest(0.0), o, o, "radius 0 m must be in (0, 1e+06]"},
-      {sphereRequest(-0.1), o, o, "radius -0.1 m must be in (0, 1e+06]"},
-      {sphereRequest(kNaN), o, o, "radius nan m"},
-      {sphereRequest(kInf), o, o, "radius inf m"},
-      {sphereRequest(0.1, -1.0), o, o, "mass -1 kg must be in [0, 1e+09] (0 = kinematic)"},
-      {sphereRequest(0.1, kNaN), o, o, "mass nan kg"},
+      {sphereRequest(0.0), o, o, "radius 0 must be in (0, 1e+06] m"},
+      {sphereRequest(-0.1), o, o, "radius -0.1 must be in (0, 1e+06] m"},
+      {sphereRequest(kNaN), o, o, "radius nan must be in (0, 1e+06] m"},
+      {sphereRequest(kInf), o, o, "radius inf must be in (0, 1e+06] m"},
+      {sphereRequest(0.1, -1.0), o, o, "mass -1 must be in [0, 1e+09] kg (0 = kinematic)"},
+      {sphereRequest(0.1, kNaN), o, o, "mass nan must be in [0, 1e+09] kg"},
       {sphereRequest(0.1, 0.0, -0.5), o, o, "friction -0.5 must be in [0, 100]"},
       {sphereRequest(0.1), Vec3(kNaN, 0, 0), o, "center (nan, 0, 0) is not finite"},
       {sphereRequest(0.1), o, Vec3(0, 0, kInf), "velocity (0, 0, inf) is not finite"},

@@ -390,7 +390,7 @@ TEST_F(BadInput, NonFiniteRadius) {
 }
 TEST_F(BadInput, NegativeRadius) {
   expectRefused<AddGrasp::Response>([&] { return graspWith([](auto& r) { r.radius = -0.1; }); },
-                                    "radius -0.1 m must be finite and >= 0");
+                                    "radius -0.1 must be finite and >= 0 m");
 }
 TEST_F(BadInput, GraspSelectingNoParticle) {
   expectRefused<AddGrasp::Response>(

@@ -1,10 +1,12 @@
 // NodeOptions: parsing from the private namespace, validation and scene loading, no master.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -99,10 +101,10 @@ TEST(NodeOptions, SimulatedTimeAndGraspParameters) {
   for (const auto& [param, value, message] :
        {std::tuple{"real_time_factor", -1.0, "parameter '~real_time_factor': -1 must be in [0, 1000] (0 = as fast as possible)"},
         std::tuple{"real_time_factor", 1e9, "parameter '~real_time_factor': 1e+09 must be in [0, 1000]"},
-        std::tuple{"grasp_frame_timeout", 0.0, "parameter '~grasp_frame_timeout': 0 s must be finite and > 0"},
-        std::tuple{"budget_ms", -1.0, "parameter '~budget_ms': -1 ms must be in [0, 1000] (0 = off)"},
-        std::tuple{"budget_ms", std::nan(""), "parameter '~budget_ms': nan ms must be in [0, 1000] (0 = off)"},
-        std::tuple{"force_arrow_scale", -0.1, "parameter '~force_arrow_scale': -0.1 m/N must be finite and >= 0"}}) {
+        std::tuple{"grasp_frame_timeout", 0.0, "parameter '~grasp_frame_timeout': 0 must be finite and > 0 s"},
+        std::tuple{"budget_ms", -1.0, "parameter '~budget_ms': -1 must be in [0, 1000] ms (0 = off)"},
+        std::tuple{"budget_ms", std::nan(""), "parameter '~budget_ms': nan must be in [0, 1000] ms (0 = off)"},
+        std::tuple{"force_arrow_scale", -0.1, "parameter '~force_arrow_scale': -0.1 must be finite and >= 0 m/N"}}) {
     XmlRpc::XmlRpcValue bad = params();
     bad[param] = value;
     EXPECT_NE(parseError(bad).find(message), std::string::npos) << parseError(bad);
@@ -160,7 +162,7 @@ TEST(NodeOptions, EveryRuleIsCheckedAndNamesItsParameter) {
       {"sphere_cull_distance", XmlRpc::XmlRpcValue(-1.0), "must be finite and > 0"},
       {"max_interactive_pins", XmlRpc::XmlRpcValue(-1), "must be >= 0"},
       {"summary_period", XmlRpc::XmlRpcValue(-0.5), "must be finite and >= 0"},
-      {"marker_bandwidth", XmlRpc::XmlRpcValue(0.0), "bytes/s must be finite and > 0"},
+      {"marker_bandwidth", XmlRpc::XmlRpcValue(0.0), "must be finite and > 0 bytes/s"},
       {"color_mode", XmlRpc::XmlRpcValue("red"), "color mode 'red' must be 'strain' or 'shaded'"},
   };
   for (const BadValue& c : cases) {
@@ -217,6 +219,18 @@ TEST(LoadScene, AMissingFileIsRefusedNamingTheParameterAndThePath) {
   const std::string m = loadError("no_such_scene");
   EXPECT_NE(m.find("parameter '~scene'"), std::string::npos) << m;
   EXPECT_NE(m.find("no_such_scene.yaml"), std::string::npos) << m;
+}
+
+TEST(LoadScene, EveryShippedSceneLoadsByNameAndAnUnknownNameListsThem) {
+  const std::vector<std::string> shipped = shippedScenes(kSceneDir);
+  EXPECT_GE(shipped.size(), 10u);  // config/scenes/ as of this test: hanging ... grasp_demo
+  EXPECT_TRUE(std::is_sorted(shipped.begin(), shipped.end()));
+  const std::string m = loadError("no_such_scene");
+  for (const std::string& name : shipped) {
+    EXPECT_EQ(loadError(name), "") << name;
+    EXPECT_NE(m.find(name), std::string::npos) << name << " not listed in: " << m;
+  }
+  EXPECT_EQ(loadError("/nonexistent/x.yaml").find("shipped"), std::string::npos);  // a path
 }
 
 TEST(LoadScene, AnInvalidFileIsRefusedNamingTheParameterAndTheField) {

@@ -10,6 +10,7 @@
 
 #include "cases.h"
 #include "cloth_sim/core/settings/settings_table.h"
+#include "cloth_sim/core/solvers/registry.h"
 #include "stats.h"
 
 namespace cloth_sim::bench {
@@ -73,16 +74,17 @@ Trajectory run(SceneConfig scene, const Config& config, const std::vector<int>& 
                double max_frame_ms) {
   // Substeps as the user sets them (solver.substeps); a reference finer than that setting
   // allows takes the frame as its step instead (nothing moves kinematically in these scenes).
-  const bool as_setting = settings::kSubsteps.range.contains(config.substeps);
-  scene.options.settings.substeps = as_setting ? config.substeps : 1;
-  if (!as_setting) scene.time_step /= config.substeps;
+  const bool as_setting = settings::kSubsteps.allows(config.substeps);
+  SceneOverrides overrides;
+  overrides.substeps = as_setting ? config.substeps : 1;
+  if (!as_setting) overrides.time_step = scene.time_step / config.substeps;
   const int steps_per_frame = as_setting ? 1 : config.substeps;
-  scene.options.solver = config.solver;
-  scene.options.settings.max_iterations = config.iterations;
-  scene.options.settings.tolerance = config.tolerance;
-  scene.options.settings.integrator = config.integrator;
-  scene.options.settings.warm_start = config.warm;
-  Simulation sim = makeSimulation(scene);
+  overrides.solver = config.solver;
+  overrides.iterations = config.iterations;
+  overrides.tolerance = config.tolerance;
+  overrides.integrator = config.integrator;
+  overrides.warm_start = config.warm;
+  Simulation sim = makeSimulation(applyOverrides(std::move(scene), overrides));
   Trajectory t;
   std::size_t next = 0;
   for (int f = 1; next < sample_frames.size(); ++f) {
@@ -234,13 +236,13 @@ std::vector<Config> configsFor(const AccuracyOptions& o, int grid) {
   for (const std::string& name : o.integrators) {
     const Integrator integrator = integratorFromName(name);
     for (const std::string& solver : o.solvers) {
-      if (!makeSolver(solver)->supports(integrator)) continue;  // xpbd: its own scheme only
-      if (solver == "xpbd") {
+      const SolverCapabilities& can = solverEntry(solver).capabilities;
+      if (!can.supports(integrator)) continue;  // xpbd: its own scheme only
+      if (!can.tolerance) {  // no convergence test: the small-steps way, one sweep per substep
         for (int s : o.xpbd_substeps) configs.push_back({solver, s, 1, 0.0, integrator});
         continue;
       }
-      // Warm starts exist for the local/global family (SolverSettings::warm_start).
-      const bool warm = o.warm_start && solver != "newton" && solver != "local_global_3n";
+      const bool warm = o.warm_start && can.warm_start;
       for (int s : o.substeps) {
         for (int i : o.iterations) configs.push_back({solver, s, i, 0.0, integrator, warm});
       }

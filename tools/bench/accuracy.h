@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cloth_sim/core/io/scene.h"
+#include "cloth_sim/core/solvers/registry.h"
 
 namespace cloth_sim::bench {
 
@@ -18,14 +19,17 @@ struct AccuracyOptions {
                                      "tablecloth", "peer_cloth"};
   /// Particles per side; a mesh scene (tablecloth) runs once at its own resolution.
   std::vector<int> grids = {32, 64, 128};
-  std::vector<std::string> solvers = {"local_global", "chebyshev", "anderson"};
+  /// By default the solvers that solve contacts in the step (their registry entry's
+  /// capabilities), the ones meant for scenes in contact such as these.
+  std::vector<std::string> solvers = solverNamesWith(&SolverCapabilities::contacts_in_step);
   /// Every configuration (newton's too) runs once per integrator (SolverSettings::integrator);
   /// a bdf2 run is labelled "<solver>/bdf2", an implicit Euler one by the solver's name.
   std::vector<std::string> integrators = {"implicit_euler", "bdf2"};
   std::vector<int> substeps = {1, 2, 4, 8, 16};
-  /// Substeps per frame of the solvers that take one sweep per step, the small-steps way
-  /// (Macklin et al. 2019): xpbd runs these with 1 iteration each, and only with its own
-  /// scheme (a solver is run only with the integrators it supports).
+  /// Substeps per frame of the solvers without a convergence test (no tolerance in their
+  /// capabilities), run the small-steps way (Macklin et al. 2019): xpbd runs these with 1
+  /// iteration each, and only with its own scheme (a solver is run only with the integrators
+  /// it supports).
   std::vector<int> xpbd_substeps = {4, 8, 16, 32, 64, 128, 256, 512};
   std::vector<int> iterations = {1, 2, 3, 5, 10, 20};
   /// Newton at full convergence (the best a step of that size can do), only up to this grid.

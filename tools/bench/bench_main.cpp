@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "accuracy.h"
+#include "cloth_sim/core/solvers/registry.h"
 #include "drift.h"
 #include "floor.h"
 #include "scaling.h"
@@ -31,9 +32,16 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"hanging", "drape"}));
   speed_cmd->add_option("--grids", speed.grids, "grid sizes (rows = cols)")->delimiter(',')
       ->capture_default_str()->check(CLI::Range(4, 400));
+  // '@p' sets the first setting of each solver that has settings of its own.
+  std::string firsts;
+  for (const cloth_sim::SolverEntry& entry : cloth_sim::solverRegistry()) {
+    if (!entry.params.empty()) {
+      firsts += (firsts.empty() ? "" : ", ") + std::string(entry.params.front()->name);
+    }
+  }
   speed_cmd->add_option("--solvers", speed.solvers,
-                        "solver labels (default: all); '@p' after a label sets chebyshev's rho, "
-                        "anderson's or lbfgs's window")
+                        "solver labels (default: all); '@p' after a label sets the first "
+                        "setting of the solver's own: " + firsts)
       ->delimiter(',')
       ->check(CLI::Validator(
           [](std::string& label) {
@@ -63,19 +71,9 @@ int main(int argc, char** argv) {
   stab_cmd->add_option("--out", stability.out_dir, "output directory")->capture_default_str();
   stab_cmd->add_option("--grid", stability.grid, "particles per side")->capture_default_str()
       ->check(CLI::Range(3, 200));
-  // And "<solver>/<integrator>" for every other integrator the solver supports.
-  std::vector<std::string> stability_solvers = cloth_sim::solverNames();
-  for (const std::string& name : cloth_sim::solverNames()) {
-    for (const cloth_sim::Integrator integrator : cloth_sim::kIntegrators) {
-      if (integrator == cloth_sim::Integrator::kImplicitEuler) continue;
-      if (cloth_sim::makeSolver(name)->supports(integrator)) {
-        stability_solvers.push_back(name + "/" + cloth_sim::integratorName(integrator));
-      }
-    }
-  }
   stab_cmd->add_option("--solvers", stability.solvers,
                        "solvers, <solver>/bdf2 or <solver>/implicit_midpoint for those integrators")
-      ->delimiter(',')->capture_default_str()->check(CLI::IsMember(stability_solvers));
+      ->delimiter(',')->capture_default_str()->check(CLI::IsMember(stabilitySolverChoices()));
   stab_cmd->add_option("--stiffness", stability.stiffness, "structural stiffness values, N/m")
       ->delimiter(',')->check(CLI::PositiveNumber);
   stab_cmd->add_option("--dt", stability.time_steps, "time steps, s")->delimiter(',')
@@ -149,8 +147,13 @@ int main(int argc, char** argv) {
   accuracy_cmd->add_option("--reference-substeps", accuracy.reference_substeps,
                            "reference: h = frame / (2 x this); its error from h = frame / this")
       ->capture_default_str()->check(CLI::Range(1, 10000));
+  std::string warm;
+  using cloth_sim::SolverCapabilities;
+  for (const std::string& name : cloth_sim::solverNamesWith(&SolverCapabilities::warm_start)) {
+    warm += (warm.empty() ? "" : ", ") + name;
+  }
   accuracy_cmd->add_flag("--warm-start", accuracy.warm_start,
-                         "local_global, chebyshev, anderson, lbfgs: warm-started steps (label +warm)");
+                         warm + ": warm-started steps (label +warm)");
   accuracy_cmd->add_option("--max-frame-ms", accuracy.max_frame_ms,
                            "stop a configuration slower than this per frame")
       ->capture_default_str()->check(CLI::PositiveNumber);

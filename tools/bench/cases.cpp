@@ -1,6 +1,6 @@
 #include "cases.h"
 
-#include <cmath>
+#include <utility>
 
 namespace cloth_sim::bench {
 
@@ -9,25 +9,10 @@ BenchCase makeCase(const std::string& scenes_dir, const std::string& scene, int 
   c.scene = scene;
   c.grid = grid;
   c.name = scene + "-" + std::to_string(grid);
-  c.config = loadSceneFile(scenes_dir + "/" + scene + ".yaml");
-  c.config.options.settings.substeps = 1;  // one implicit step per frame: the per-step view
-  const int old_rows = c.config.grid.rows, old_cols = c.config.grid.cols;
-  c.config.grid.rows = grid;
-  c.config.grid.cols = grid;
-  // A pin on one grid vertex moves to the same place on the sheet at the new resolution (corners
-  // stay corners); edge and region selectors resolve at any resolution as they are.
-  auto scale = [grid](int index, int old_count) {
-    return static_cast<int>(std::lround(static_cast<double>(index) * (grid - 1) / (old_count - 1)));
-  };
-  for (PinSelector& pin : c.config.pins) {
-    if (pin.kind == PinSelector::Kind::kVertex) {
-      pin.vertex = gridVertex(scale(pin.vertex / old_cols, old_rows),
-                              scale(pin.vertex % old_cols, old_cols), grid);
-    } else if (pin.kind == PinSelector::Kind::kCell) {
-      pin.row = scale(pin.row, old_rows);
-      pin.col = scale(pin.col, old_cols);
-    }
-  }
+  SceneOverrides resized;
+  resized.resolution = grid;  // pins stay where they are on the sheet
+  resized.substeps = 1;       // one implicit step per frame: the per-step view
+  c.config = applyOverrides(loadSceneFile(scenes_dir + "/" + scene + ".yaml"), resized);
   return c;
 }
 
@@ -43,11 +28,12 @@ BenchCase makePaperCase(const std::string& scenes_dir) {
 
 SceneConfig withSolver(SceneConfig config, const std::string& solver, int iterations,
                        LinearSolver linear, bool warm_start) {
-  config.options.solver = solver;
-  config.options.settings.max_iterations = iterations;
-  config.options.settings.linear_solver = linear;
-  config.options.settings.warm_start = warm_start;
-  return config;
+  SceneOverrides overrides;
+  overrides.solver = solver;
+  overrides.iterations = iterations;
+  overrides.linear_solver = linear;
+  overrides.warm_start = warm_start;
+  return applyOverrides(std::move(config), overrides);
 }
 
 }  // namespace cloth_sim::bench

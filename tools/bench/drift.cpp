@@ -45,14 +45,17 @@ void runDrift(const DriftOptions& o) {
   for (const std::string& text : o.configs) {
     const std::vector<std::string> f = fields(text);
     if (f.size() != 3) throw std::invalid_argument("drift config '" + text + "': want solver:substeps:iterations");
-    SceneConfig config = scene;
+    SceneOverrides overrides;
     const std::size_t slash = f[0].find('/');
-    config.options.solver = f[0].substr(0, slash);
-    config.options.settings.integrator =
-        slash == std::string::npos ? Integrator::kImplicitEuler : integratorFromName(f[0].substr(slash + 1));
-    if (f[1] == "verlet") config.options.settings.substeps = verletSubsteps(scene);
-    else if (f[1] != "scene") config.options.settings.substeps = std::stoi(f[1]);
-    if (f[2] != "scene") config.options.settings.max_iterations = std::stoi(f[2]);
+    overrides.solver = f[0].substr(0, slash);
+    overrides.integrator = slash == std::string::npos ? Integrator::kImplicitEuler
+                                                      : integratorFromName(f[0].substr(slash + 1));
+    if (f[1] == "verlet")
+      overrides.substeps = verletSubsteps(scene);
+    else if (f[1] != "scene")
+      overrides.substeps = std::stoi(f[1]);
+    if (f[2] != "scene") overrides.iterations = std::stoi(f[2]);
+    const SceneConfig config = applyOverrides(scene, overrides);
     Simulation sim = makeSimulation(config);
     const int frames = static_cast<int>(o.duration / sim.frameTime() + 0.5);
     const int one_second = static_cast<int>(1.0 / sim.frameTime() + 0.5);

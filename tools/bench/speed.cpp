@@ -12,6 +12,7 @@
 #include "cloth_sim/core/solvers/local_global/lbfgs_solver.h"
 #include "cloth_sim/core/solvers/local_global/local_global_solver.h"
 #include "cloth_sim/core/solvers/newton_solver.h"
+#include "cloth_sim/core/solvers/registry.h"
 #include "reference.h"
 #include "stats.h"
 
@@ -22,25 +23,26 @@ struct Config {
   std::string label, solver;
   LinearSolver linear = LinearSolver::kFused;
   bool warm = false;      ///< SolverSettings::warm_start
-  bool iterative = true;  ///< false: explicit, one row at "iterations" 1
-  double param = 0.0;     ///< after '@': chebyshev_rho, anderson_window or lbfgs_window; 0 = default
+  bool iterative = true;  ///< false: no iterations to set (explicit), one row at "iterations" 1
+  /// After '@': the first setting of the solver's own (its registry entry's params:
+  /// chebyshev's rho, anderson's or lbfgs's window) and its value; none when null.
+  const SolverParam* param = nullptr;
+  double param_value = 0.0;
 };
 
 /// Settings @p s with the '@' parameter of @p c applied.
 SolverSettings withParam(SolverSettings s, const Config& c) {
-  if (c.param <= 0.0) return s;
-  if (c.solver == "chebyshev") s.chebyshev_rho = c.param;
-  if (c.solver == "anderson") s.anderson_window = static_cast<int>(c.param);
-  if (c.solver == "lbfgs") s.lbfgs_window = static_cast<int>(c.param);
+  if (c.param != nullptr) s.params.set(*c.param, c.param_value);
   return s;
 }
 
-/// "solver[:linear][+warm][@param]", param: chebyshev's rho, anderson's or lbfgs's window.
+/// "solver[:linear][+warm][@param]", param: the first setting of the solver's own.
 Config configOf(const std::string& label) {
   Config c{label, label};
   const auto at = c.solver.find('@');
+  double param_value = 0.0;
   if (at != std::string::npos) {
-    c.param = std::stod(c.solver.substr(at + 1));
+    param_value = std::stod(c.solver.substr(at + 1));
     c.solver = c.solver.substr(0, at);
   }
   const auto plus = c.solver.find('+');
@@ -53,7 +55,12 @@ Config configOf(const std::string& label) {
     c.linear = linearSolverFromName(c.solver.substr(colon + 1));
     c.solver = c.solver.substr(0, colon);
   }
-  c.iterative = c.solver != "explicit_euler" && c.solver != "verlet";
+  const SolverEntry& entry = solverEntry(c.solver);
+  c.iterative = entry.capabilities.iterations;
+  if (param_value > 0.0 && !entry.params.empty()) {
+    c.param = entry.params.front();
+    c.param_value = param_value;
+  }
   return c;
 }
 
@@ -182,6 +189,17 @@ void traceErrors(const std::string& case_name, const Config& c, const Model& mod
   }
 }
 
+/// @p config with the solver, iterations, linear solver, warm start and '@' parameter of @p c.
+SceneConfig withSolver(const SceneConfig& config, const Config& c, int iterations) {
+  SceneOverrides overrides;
+  overrides.solver = c.solver;
+  overrides.iterations = iterations;
+  overrides.linear_solver = c.linear;
+  overrides.warm_start = c.warm;
+  if (c.param != nullptr) overrides.params.emplace_back(c.param, c.param_value);
+  return applyOverrides(config, overrides);
+}
+
 void writeRow(std::ofstream& out, const BenchCase& bc, const Model& model, double h,
               const Config& c, int iterations, const TimedRun& run, const std::vector<double>& e_g,
               const std::vector<double>& e_x, bool refs_converged) {
@@ -199,10 +217,23 @@ void writeRow(std::ofstream& out, const BenchCase& bc, const Model& model, doubl
 }  // namespace
 
 std::vector<std::string> solverLabels() {
-  return {"local_global",   "local_global:cholmod", "local_global:eigen", "local_global_3n",
-          "chebyshev",      "anderson",             "local_global+warm",  "chebyshev+warm",
-          "anderson+warm",  "lbfgs",                "lbfgs+warm",         "newton",
-          "explicit_euler", "verlet"};
+  // Every solver of the registry; warm-started too where that applies; the default solver
+  // with each other linear solver.
+  const std::string default_solver = SimulationOptions{}.solver;
+  std::vector<std::string> labels;
+  for (const SolverEntry& entry : solverRegistry()) {
+    labels.emplace_back(entry.name);
+    if (entry.name != default_solver) continue;
+    for (LinearSolver linear : kLinearSolvers) {
+      if (linear != SolverSettings{}.linear_solver) {
+        labels.push_back(default_solver + ":" + linearSolverName(linear));
+      }
+    }
+  }
+  for (const SolverEntry& entry : solverRegistry()) {
+    if (entry.capabilities.warm_start) labels.push_back(std::string(entry.name) + "+warm");
+  }
+  return labels;
 }
 
 void runSpeed(const SpeedOptions& o) {
@@ -224,7 +255,8 @@ void runSpeed(const SpeedOptions& o) {
   const std::vector<std::string> labels = o.solvers.empty() ? solverLabels() : o.solvers;
 
   for (const BenchCase& bc : all) {
-    // Common start states: the scene's default solver, sampled along its trajectory.
+    // Common start states: local_global (its factor is reported below), sampled along its
+    // trajectory.
     Simulation sim = makeSimulation(withSolver(bc.config, "local_global", 10, LinearSolver::kFused));
     const Model model = sim.model();
     const double h = sim.substepTime();
@@ -270,9 +302,7 @@ void runSpeed(const SpeedOptions& o) {
                                     : decltype(newtonErrors(counts, model, pins, h, samples)){};
       for (int iterations : counts) {
         const double t0 = now();
-        SceneConfig timed = withSolver(bc.config, c.solver, iterations, c.linear, c.warm);
-        timed.options.settings = withParam(timed.options.settings, c);
-        const TimedRun run = timeRun(timed, o);
+        const TimedRun run = timeRun(withSolver(bc.config, c, iterations), o);
         std::vector<double> e_g = is_newton ? newton.at(iterations).first : std::vector<double>();
         std::vector<double> e_x = is_newton ? newton.at(iterations).second : std::vector<double>();
         if (!is_newton) measureErrors(c, iterations, model, pins, h, samples, e_g, e_x);

@@ -19,15 +19,17 @@ struct SpeedOptions {
   int samples = 4;         ///< states along the trajectory where the error is measured
   double budget = 6.0;     ///< s of wall time after which a timed run stops (>= min_steps)
   int min_steps = 4;
-  /// cap of the per-iteration error traces (local/global, chebyshev, anderson, lbfgs)
+  /// cap of the per-iteration error traces (the local/global family: those with an iterate
+  /// observer)
   int trace_iterations = 3000;
 };
 
-/// The solver configurations the benchmark knows: "local_global" (fused kernels),
-/// "local_global:cholmod", "local_global:eigen", "local_global_3n", "chebyshev", "anderson",
-/// "lbfgs", "local_global+warm", "chebyshev+warm", "anderson+warm", "lbfgs+warm"
-/// (SolverSettings::warm_start), "newton", "explicit_euler", "verlet". "@p" after a label sets
-/// chebyshev's rho or anderson's or lbfgs's window (SolverSettings).
+/// The solver configurations the benchmark knows, from the solver registry: every solver by
+/// name (the default one, local_global, with the fused kernels), the default solver with each
+/// other linear solver ("local_global:cholmod", "local_global:eigen"), and "<solver>+warm" for
+/// each solver whose capabilities have warm_start (SolverSettings::warm_start). "@p" after a
+/// label sets the first setting of the solver's own (its entry's params: chebyshev's rho,
+/// anderson's or lbfgs's window).
 std::vector<std::string> solverLabels();
 
 /// Runs the benchmark and writes speed.csv, traces.csv, references.csv and cases.csv.

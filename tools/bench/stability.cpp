@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cloth_sim/core/solvers/registry.h"
 #include "stats.h"
 
 namespace cloth_sim::bench {
@@ -22,6 +23,30 @@ const char* scenarioName(Scenario s) {
     case Scenario::kSphere: return "sphere";
   }
   return "unknown";
+}
+
+std::vector<std::string> defaultStabilitySolvers() {
+  std::vector<std::string> solvers = solverNames();
+  const std::string default_solver = SimulationOptions{}.solver;
+  for (const Integrator integrator : kIntegrators) {
+    if (integrator != SolverSettings{}.integrator &&
+        solverEntry(default_solver).capabilities.supports(integrator)) {
+      solvers.push_back(default_solver + "/" + integratorName(integrator));
+    }
+  }
+  return solvers;
+}
+
+std::vector<std::string> stabilitySolverChoices() {
+  std::vector<std::string> choices = solverNames();
+  for (const SolverEntry& entry : solverRegistry()) {
+    for (const Integrator integrator : kIntegrators) {
+      if (integrator != SolverSettings{}.integrator && entry.capabilities.supports(integrator)) {
+        choices.push_back(std::string(entry.name) + "/" + integratorName(integrator));
+      }
+    }
+  }
+  return choices;
 }
 
 SceneConfig stabilityScene(Scenario scenario, int grid, double stiffness, double time_step,

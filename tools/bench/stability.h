@@ -18,15 +18,20 @@ enum class Scenario {
 };
 const char* scenarioName(Scenario s);
 
+/// The sweep's solvers by default, from the solver registry: every solver, and the default
+/// solver (SimulationOptions::solver) with each other integrator ("local_global/bdf2").
+std::vector<std::string> defaultStabilitySolvers();
+/// What the sweep accepts: every solver, and "<solver>/<integrator>" for each other integrator
+/// its registry entry supports.
+std::vector<std::string> stabilitySolverChoices();
+
 struct StabilityOptions {
   std::string out_dir;
   int grid = 16;                     ///< particles per side
   std::vector<double> stiffness = {1e1, 1e2, 1e3, 1e4, 1e5, 1e6};  ///< structural, N/m
   std::vector<double> time_steps = {1.0 / 240, 1.0 / 120, 1.0 / 60, 1.0 / 30, 1.0 / 15};
   /// A solver name, or "<solver>/<integrator>" for another SolverSettings::integrator.
-  std::vector<std::string> solvers = {"explicit_euler", "verlet", "newton", "local_global",
-                                      "chebyshev", "local_global_3n", "local_global/bdf2",
-                                      "local_global/implicit_midpoint", "xpbd"};
+  std::vector<std::string> solvers = defaultStabilitySolvers();
   std::vector<Scenario> scenarios = {Scenario::kRelease, Scenario::kTeleport, Scenario::kSphere};
   int iterations = 10;               ///< per step (newton: cap)
   /// s: the event is at 0.5 s; 2.5 s later even the 10 N/m cloth has settled under 100 %.

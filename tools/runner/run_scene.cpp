@@ -13,13 +13,11 @@
 
 #include "cloth_sim/core/io/scene.h"
 #include "cloth_sim/core/settings/settings_table.h"
+#include "cloth_sim/core/solvers/registry.h"
 #include "fold_script.h"
 #include "step_log.h"
 
 namespace {
-
-/// The most frames one run takes (about 19 days of simulated time at 60 Hz).
-constexpr int kMaxFrames = 100000000;
 
 struct Options {
   std::string scene_path, solver, linear_solver, integrator, csv, json, positions;
@@ -40,27 +38,33 @@ std::string clip(const std::string& text) {
   return text.substr(0, kShown) + "... (" + std::to_string(text.size()) + " characters)";
 }
 
-/// A CLI11 validator: a number in @p range, described by @p requirement (its rule and unit).
-CLI::Validator inRange(cloth_sim::Range range, const std::string& requirement) {
+/// A CLI11 validator: a number @p setting (settings_table.h) allows; its refusal otherwise
+/// ("value 0 must be in [1, 100000]", after CLI11's "--iterations: ").
+CLI::Validator allowedBy(const cloth_sim::Setting& setting) {
   return CLI::Validator(
-      [range, requirement](std::string& text) -> std::string {
+      [&setting](std::string& text) -> std::string {
         // strtod, not stod: a denormal such as 5e-324 is a number (out of range, not "not one").
         char* end = nullptr;
         const double v = std::strtod(text.c_str(), &end);
         if (text.empty() || end != text.c_str() + text.size()) {
           return "'" + clip(text) + "' is not a number";
         }
-        if (!range.contains(v)) return "value " + clip(text) + " must be " + requirement;
-        return "";
+        return setting.refusal(v, "value");
       },
-      requirement, "");
+      setting.requirement(), "");
+}
+
+/// @p names as "a, b, c".
+std::string listed(const std::vector<std::string>& names) {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return list;
 }
 
 /// A CLI11 validator: @p names lists the allowed values (checked here, so that a long value is
 /// quoted cut, and the list is given).
 CLI::Validator oneOf(const std::vector<std::string>& names) {
-  std::string list;
-  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  const std::string list = listed(names);
   return CLI::Validator(
       [names, list](std::string& text) -> std::string {
         if (std::find(names.begin(), names.end(), text) != names.end()) return "";
@@ -86,11 +90,6 @@ void openNamed(const char* option, const std::string& path, Open open) {
   }
 }
 
-/// A CLI11 validator for the range of @p setting (settings_table.h).
-CLI::Validator allowedBy(const cloth_sim::Setting& setting) {
-  return inRange(setting.range, setting.requirement());
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -109,7 +108,7 @@ int main(int argc, char** argv) {
   app.add_option("--dt", o.dt, "frame time step in s (default: the scene's)")
       ->check(allowedBy(settings::kTimeStep));
   app.add_option("--duration", o.duration, "simulated seconds (default 5)")
-      ->check(inRange(Range::above(0), "> 0 s"));
+      ->check(allowedBy(settings::kRunDuration));
   app.add_option("--tolerance", o.tolerance, "stop iterating below this relative change (0 = never)")
       ->check(allowedBy(settings::kTolerance));
   app.add_option("--linear-solver", o.linear_solver, "global step solve (default: fused)")
@@ -121,18 +120,20 @@ int main(int argc, char** argv) {
   app.add_option("--json", o.json, "per-step JSON to this file ('-' = stdout)")->excludes(csv);
   app.add_option("--positions", o.positions, "final positions (CSV: particle,x,y,z in m) to this file");
   app.add_flag("--warm-start", o.warm_start,
-               "local_global, chebyshev, anderson, lbfgs: start from y + the previous step's correction");
+               listed(solverNamesWith(&SolverCapabilities::warm_start)) +
+                   ": start from y + the previous step's correction");
   app.add_flag("--quiet", o.quiet, "no per-second summary on stdout");
   app.add_option("--self-collision", o.self_collision,
                  "on or off (default: the scene's self_collision)")
       ->check(CLI::IsMember({"on", "off"}));
   app.add_option("--resolution", o.resolution,
-                 "grid cloth: rows = cols = this; self_collision.thickness becomes automatic")
+                 "grid cloth: rows = cols = this, pins moved to the same place on the sheet; "
+                 "self_collision.thickness becomes automatic")
       ->check(allowedBy(settings::kGridResolution));
   app.add_option("--fold", o.fold,
                  "carry the scene's first pin over the cloth to the vertex farthest from it in "
                  "this many s, then let go (the fold scene's script)")
-      ->check(inRange(Range::above(0), "> 0 s"));
+      ->check(allowedBy(settings::kFoldTime));
   app.add_flag("--check", o.check,
                "load and build the scene with the options, run nothing: exit 0 if it can be run");
   try {
@@ -157,6 +158,7 @@ int main(int argc, char** argv) {
     if (!o.integrator.empty()) overrides.integrator = integratorFromName(o.integrator);
     if (o.warm_start) overrides.warm_start = true;
     if (!o.self_collision.empty()) overrides.self_collision = o.self_collision == "on";
+    overrides.resolution = o.resolution;
     SceneConfig loaded;
     try {
       loaded = loadSceneFile(o.scene_path);
@@ -164,14 +166,11 @@ int main(int argc, char** argv) {
       const std::string what = e.what();  // long only when the path is: cut it then
       throw std::runtime_error("--scene " + (what.size() <= 16 * kShown ? what : clip(what)));
     }
-    SceneConfig scene = applyOverrides(std::move(loaded), overrides);
-    if (o.resolution) {
-      if (scene.cloth_kind != SceneConfig::ClothKind::kGrid) {
-        throw std::invalid_argument("--resolution needs a grid cloth; " + o.scene_path +
-                                    " has a mesh");
-      }
-      scene.grid.rows = scene.grid.cols = *o.resolution;
-      scene.options.self_contact.thickness = 0.0;  // the scene's was for its own spacing
+    SceneConfig scene;
+    try {
+      scene = applyOverrides(std::move(loaded), overrides);
+    } catch (const SceneError& e) {  // only --resolution can be refused here
+      throw std::runtime_error(std::string("--resolution: ") + e.what());
     }
     Simulation sim = makeSimulation(scene);
     if (o.check) return 0;  // the scene and the options are usable (scripts/run_demo.sh)
@@ -181,12 +180,11 @@ int main(int argc, char** argv) {
     // A count derived from user numbers is checked before it is cast: 1e-10 s frames for 1 s
     // would overflow an int into a run of one step.
     const double frames = std::round(o.duration / h);
-    if (!(frames <= kMaxFrames) || !(frames >= 1.0)) {
-      throw std::invalid_argument(
-          "--duration " + formatNumber(o.duration) + " s at a frame (--dt, else the scene's " +
-          "time_step) of " + formatNumber(h) +
-          " s is " + formatNumber(frames) + " frames: a run takes 1 to " +
-          formatNumber(kMaxFrames) + " frames (--duration / frame, rounded)");
+    if (!settings::kRunFrames.allows(frames)) {
+      throw std::invalid_argument("--duration " + formatNumber(o.duration) +
+                                  " s at a frame (--dt, else the scene's time_step) of " +
+                                  formatNumber(h) +
+                                  " s: " + settings::kRunFrames.refusal(frames, "frames"));
     }
     const int steps = static_cast<int>(frames);
     const int per_second = static_cast<int>(std::clamp(std::round(1.0 / h), 1.0, frames + 1.0));

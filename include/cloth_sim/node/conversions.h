@@ -30,15 +30,10 @@ geometry_msgs::Vector3 toVector3Msg(const Vec3& v);
 /// Throws std::invalid_argument "<what> (x, y, z) is not finite" unless every coordinate is.
 void requireFinite(const Vec3& v, const std::string& what);
 
-/// The node's message for a @p value that @p setting does not allow (its rule from
-/// settings_table.h): "0 m must be finite and > 0", "1.5 must be in [0, 1]"; "" when allowed.
-std::string violation(double value, const Setting& setting);
-/// Throws std::invalid_argument "<what> <violation>" unless @p setting allows @p value.
-void requireAllowed(const std::string& what, double value, const Setting& setting);
-
 /// The sphere a cloth/spawn_sphere request asks for, with @p center (m) and @p velocity (m/s)
-/// already transformed into ~frame_id. Refuses (std::invalid_argument) a radius, mass, friction
-/// or restitution outside its range in settings_table.h (settings::kSphereRadius, ...).
+/// already transformed into ~frame_id. Refuses (std::invalid_argument, Setting::require naming
+/// the request's field) a radius, mass, friction or restitution outside its range in
+/// settings_table.h (settings::kSphereRadius, ...).
 SphereCollider sphereFromRequest(const SpawnSphere::Request& request, const Vec3& center,
                                  const Vec3& velocity);
 

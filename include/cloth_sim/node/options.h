@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <xmlrpcpp/XmlRpcValue.h>
 
@@ -20,7 +21,8 @@ struct NodeOptions {
   /// ~frame_id: the frame the simulation lives in; every output is in it and every input is
   /// transformed into it with tf2.
   std::string frame_id = "world";
-  /// ~render_rate, Hz, in (0, 1000]: rate of cloth/markers (independent of the step rate).
+  /// ~render_rate, Hz (settings::kRenderRate): rate of cloth/markers (independent of the step
+  /// rate).
   double render_rate = 30.0;
   /// ~solver: replaces the scene's solver when not empty (a name from solverNames()).
   std::string solver;
@@ -34,23 +36,28 @@ struct NodeOptions {
   /// keeps the scene's (its self_collision field; thickness and friction come from there, or
   /// their defaults). dynamic_reconfigure's self_collision switches it at run time.
   std::optional<bool> self_collision;
-  /// ~max_rollbacks, >= 1: after this many rolled-back (diverged) steps in a row the node
-  /// resets the simulation to its initial state (see docs/ros_interface.md, "Divergence").
+  /// ~max_rollbacks (settings::kMaxRollbacks): after this many rolled-back (diverged) steps in
+  /// a row the node resets the simulation to its initial state (see docs/ros_interface.md,
+  /// "Divergence").
   int max_rollbacks = 30;
-  /// ~strain_color_scale, > 0: the strain drawn at full colour (0.05 = 5 %).
+  /// ~strain_color_scale (settings::kStrainColorScale): the strain drawn at full colour
+  /// (0.05 = 5 %).
   double strain_color_scale = 0.05;
   /// ~shading: darken the cloth colours by a fixed light, so folds are visible in RViz.
   bool shading = true;
   /// ~color_mode: "strain" (the cloth coloured by strain) or "shaded" (one colour, shading
   /// only); also a dynamic_reconfigure parameter.
   std::string color_mode = "strain";
-  /// ~sphere_cull_distance, m, > 0: a sphere farther than this from the cloth's initial centre
-  /// is removed (a thrown kinematic sphere flies on forever otherwise).
+  /// ~sphere_cull_distance, m (settings::kSphereCullDistance): a sphere farther than this from
+  /// the cloth's initial centre is removed (a thrown kinematic sphere flies on forever
+  /// otherwise).
   double sphere_cull_distance = 20.0;
-  /// ~max_interactive_pins, >= 0: pins get RViz drag handles while there are at most this many
-  /// (a fully pinned edge would bury the cloth under handles); 0 = never.
+  /// ~max_interactive_pins (settings::kMaxInteractivePins): pins get RViz drag handles while
+  /// there are at most this many (a fully pinned edge would bury the cloth under handles);
+  /// 0 = never.
   int max_interactive_pins = 16;
-  /// ~summary_period, s, >= 0: log a one-line summary of the simulation this often; 0 = never.
+  /// ~summary_period, s (settings::kSummaryPeriod): log a one-line summary of the simulation
+  /// this often; 0 = never.
   double summary_period = 0.0;
   /// ~publish_clock: publish the simulated time on /clock after every frame (the nodes that
   /// should follow it need /use_sim_time true; launch/cloth_sim.launch sets both together).
@@ -68,9 +75,9 @@ struct NodeOptions {
   double grasp_frame_timeout = 0.5;
   /// ~force_arrow_scale, m/N, >= 0 (settings::kForceArrowScale): length of a grasp's force arrow.
   double force_arrow_scale = 0.5;
-  /// ~marker_bandwidth, bytes/s, > 0: cloth/markers is sent at ~render_rate, or less often when
-  /// its arrays are large, so as not to exceed this (RenderPacer; 12 MB/s keeps 30 Hz up to a
-  /// 40 x 40 cloth, drape's).
+  /// ~marker_bandwidth, bytes/s (settings::kMarkerBandwidth): cloth/markers is sent at
+  /// ~render_rate, or less often when its arrays are large, so as not to exceed this
+  /// (RenderPacer; 12 MB/s keeps 30 Hz up to a 40 x 40 cloth, drape's).
   double marker_bandwidth = 12e6;
 };
 
@@ -81,17 +88,22 @@ struct NodeOptions {
 /// Throws std::invalid_argument: "parameter '~render_rate': expected a number, got a string".
 NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params);
 
-/// Checks every field against its rule. Throws std::invalid_argument naming the parameter,
-/// its value and the rule, e.g. "parameter '~render_rate': -3 must be in (0, 1000] Hz".
+/// Checks every field against its rule (a number against its entry of settings_table.h).
+/// Throws std::invalid_argument naming the parameter, its value and the rule, e.g.
+/// "parameter '~render_rate': -3 Hz must be in (0, 1000]" (Setting::refusal).
 void validateNodeOptions(const NodeOptions& options);
 
 /// The file ~scene names: a bare name (no '/' and no ".yaml") becomes
 /// <scene_dir>/<name>.yaml; anything else is a path and is returned as given.
 std::string resolveScenePath(const std::string& scene, const std::string& scene_dir);
 
-/// Loads the scene file of @p options (resolved against @p scene_dir) and applies ~solver and
-/// ~iterations to it (checked by validateNodeOptions). Throws std::invalid_argument
-/// "parameter '~scene': <what is wrong>" for a missing or invalid file.
+/// The shipped scenes: the stems of the .yaml files in @p scene_dir, sorted ("drape", ...).
+std::vector<std::string> shippedScenes(const std::string& scene_dir);
+
+/// Loads the scene file of @p options (resolved against @p scene_dir) and applies ~solver,
+/// ~iterations, ~substeps and ~self_collision to it (checked by validateNodeOptions). Throws
+/// std::invalid_argument "parameter '~scene': <what is wrong>" for a missing or invalid file; a
+/// bare name that is no shipped scene gets the list of shipped scenes (shippedScenes).
 SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir);
 
 /// The simulation of @p scene (from loadScene). Throws std::invalid_argument

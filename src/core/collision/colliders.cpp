@@ -23,23 +23,10 @@ void checkSphere(const SphereCollider& s) {
   if (!s.angular_velocity.allFinite()) {
     throw std::invalid_argument("sphere angular velocity must be finite");
   }
-  // Each rule is its settings_table.h entry; the message keeps this layer's wording.
-  if (!settings::kSphereRadius.range.contains(s.radius)) {
-    throw std::invalid_argument("sphere radius " + std::to_string(s.radius) +
-                                " m must be finite and > 0");
-  }
-  if (!settings::kFriction.range.contains(s.friction)) {
-    throw std::invalid_argument("sphere friction " + std::to_string(s.friction) +
-                                " must be finite and >= 0");
-  }
-  if (!settings::kSphereMass.range.contains(s.mass)) {
-    throw std::invalid_argument("sphere mass " + std::to_string(s.mass) +
-                                " kg must be finite and >= 0 (0 = kinematic)");
-  }
-  if (!settings::kRestitution.range.contains(s.restitution)) {
-    throw std::invalid_argument("sphere restitution " + std::to_string(s.restitution) +
-                                " must be in [0, 1]");
-  }
+  settings::kSphereRadius.require(s.radius, "sphere radius");
+  settings::kFriction.require(s.friction, "sphere friction");
+  settings::kSphereMass.require(s.mass, "sphere mass");
+  settings::kRestitution.require(s.restitution, "sphere restitution");
 }
 
 /// Contact of one particle with one sphere over a step, in the frame that translates with the
@@ -267,10 +254,7 @@ const SphereCollider* Colliders::findSphere(int id) const {
 
 void Colliders::setGround(const GroundPlane& ground) {
   if (!std::isfinite(ground.height)) throw std::invalid_argument("ground height must be finite");
-  if (!settings::kFriction.range.contains(ground.friction)) {
-    throw std::invalid_argument("ground friction " + std::to_string(ground.friction) +
-                                " must be finite and >= 0");
-  }
+  settings::kFriction.require(ground.friction, "ground friction");
   ground_ = ground;
 }
 

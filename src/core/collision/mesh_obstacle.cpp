@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "cloth_sim/core/collision/contact_projection.h"
+#include "cloth_sim/core/settings/settings_table.h"
 
 namespace cloth_sim {
 namespace {
@@ -23,12 +24,8 @@ double meanEdgeLength(const TriangleMesh& mesh) {
 MeshObstacle::MeshObstacle(TriangleMesh mesh, double thickness, double friction,
                            double cell_size)
     : mesh_(std::move(mesh)), thickness_(thickness), friction_(friction) {
-  if (!(std::isfinite(thickness) && thickness > 0.0)) {
-    throw std::invalid_argument("mesh obstacle thickness must be finite and > 0 m");
-  }
-  if (!(std::isfinite(friction) && friction >= 0.0)) {
-    throw std::invalid_argument("mesh obstacle friction must be finite and >= 0");
-  }
+  settings::kMeshThickness.require(thickness, "mesh obstacle thickness");
+  settings::kFriction.require(friction, "mesh obstacle friction");
   if (mesh_.triangleCount() == 0 || !mesh_.vertices.allFinite()) {
     throw std::invalid_argument("mesh obstacle needs at least one triangle and finite vertices");
   }

@@ -31,9 +31,10 @@ void SceneLimits::checkPoint(const std::string& what, const Vec3& point) const {
     throw std::invalid_argument(what + " " + str(point) + " m is not finite");
   }
   for (int k = 0; k < 3; ++k) {
-    if (!settings::kCoordinate.range.contains(point[k])) {
-      throw std::invalid_argument(what + " " + str(point) + " m: every coordinate must be " +
-                                  settings::kCoordinate.requirement());
+    if (!settings::kCoordinate.allows(point[k])) {
+      throw std::invalid_argument(
+          what + " " + str(point) +
+          " m: " + settings::kCoordinate.refusal(point[k], std::string(1, "xyz"[k])));
     }
   }
   const double distance = (point - center).norm();

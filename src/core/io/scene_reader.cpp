@@ -1,14 +1,11 @@
 #include "cloth_sim/core/io/scene_reader.h"
 
-#include <cmath>
 #include <fstream>
-#include <map>
 #include <set>
 #include <sstream>
 
-#include <yaml-cpp/yaml.h>
-
-#include "cloth_sim/core/settings/settings_table.h"
+#include "cloth_sim/core/io/scene_fields.h"
+#include "cloth_sim/core/solvers/registry.h"
 
 namespace cloth_sim {
 
@@ -18,169 +15,21 @@ PinSelector PinSelector::atVertex(int vertex) {
   return pin;
 }
 
-SceneError::SceneError(const std::string& source, const std::string& field,
-                       const std::string& problem)
-    : std::runtime_error(source + ": " + (field.empty() ? "" : "field '" + field + "': ") + problem),
-      field_(field) {}
-
 namespace {
 
-/// Reads typed values out of YAML nodes, failing with the field's dotted path.
-class Reader {
- public:
-  explicit Reader(std::string source) : source_(std::move(source)) {}
-
-  [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
-    throw SceneError(source_, path, problem);
-  }
-
-  /// @p node as flow YAML, cut to kShown characters: a 100 kB value is not echoed back whole.
-  static std::string show(const YAML::Node& node) {
-    YAML::Emitter out;
-    out << YAML::Flow << node;
-    return clip(out.c_str());
-  }
-
-  static constexpr std::size_t kShown = 64;
-  /// @p text, or its first kShown characters and how long it was.
-  static std::string clip(const std::string& text) {
-    if (text.size() <= kShown) return text;
-    return text.substr(0, kShown) + "... (" + std::to_string(text.size()) + " characters)";
-  }
-
-  /// Checks that @p node is a map whose keys are all in @p known.
-  void map(const YAML::Node& node, const std::string& path,
-           const std::set<std::string>& known) const {
-    if (!node.IsMap()) fail(path, "value " + show(node) + " must be a map");
-    std::map<std::string, int> lines;  // key -> line, to refuse a key given twice
-    for (const auto& kv : node) {
-      const int line = kv.first.Mark().line + 1;
-      if (!kv.first.IsScalar()) {
-        fail(path.empty() ? "(top level)" : path,
-             "key " + show(kv.first) + " on line " + std::to_string(line) + " must be a plain name");
-      }
-      const std::string key = kv.first.Scalar();
-      if (const auto [first, fresh] = lines.emplace(key, line); !fresh) {
-        fail(join(path, clip(key)), "given twice (lines " + std::to_string(first->second) + " and " +
-                                  std::to_string(line) + "); a field may appear once");
-      }
-      if (known.count(key) == 0) {
-        std::string list;
-        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-        fail(join(path, clip(key)), "unknown field (known here: " + list + ")");
-      }
-    }
-  }
-
-  static std::string join(const std::string& path, const std::string& key) {
-    return path.empty() ? key : path + "." + key;
-  }
-
-  /// A finite number; also accepts a fraction written "a/b" (e.g. time_step: 1/60).
-  double number(const YAML::Node& node, const std::string& path) const {
-    if (!node.IsScalar()) fail(path, "value " + show(node) + " must be a number");
-    const std::string text = node.Scalar();
-    double value = 0.0;
-    const auto slash = text.find('/');
-    try {
-      if (slash != std::string::npos) {
-        std::size_t used_a = 0, used_b = 0;
-        const std::string a = text.substr(0, slash), b = text.substr(slash + 1);
-        const double num = std::stod(a, &used_a), den = std::stod(b, &used_b);
-        if (used_a != a.size() || used_b != b.size()) throw std::invalid_argument("fraction");
-        value = num / den;
-      } else {
-        value = node.as<double>();
-      }
-    } catch (const std::exception&) {
-      fail(path, "value '" + clip(text) + "' must be a number");
-    }
-    if (!std::isfinite(value)) fail(path, "value '" + clip(text) + "' must be finite");
-    return value;
-  }
-
-  /// A number allowed by @p setting, else fails with "value V must be RULE".
-  double number(const YAML::Node& node, const std::string& path, const Setting& setting) const {
-    const double v = number(node, path);
-    if (!setting.range.contains(v)) {
-      fail(path, "value " + show(node) + " must be " + setting.requirement());
-    }
-    return v;
-  }
-
-  /// An integer allowed by @p setting, else fails with "value V must be an integer RULE".
-  int integer(const YAML::Node& node, const std::string& path, const Setting& setting) const {
-    const int value = integer(node, path, "an integer " + setting.requirement());
-    if (!setting.range.contains(value)) {
-      fail(path, "value " + show(node) + " must be an integer " + setting.requirement());
-    }
-    return value;
-  }
-
-  /// Any integer (an index the builder checks), else fails with "value V must be @p rule".
-  int integer(const YAML::Node& node, const std::string& path,
-              const std::string& rule = "an integer") const {
-    if (!node.IsScalar()) fail(path, "value " + show(node) + " must be " + rule);
-    try {
-      return node.as<int>();
-    } catch (const std::exception&) {
-      fail(path, "value " + show(node) + " must be " + rule);
-    }
-  }
-
-  /// [x, y, z], each component finite and, when @p setting is given, allowed by it.
-  Vec3 vec3(const YAML::Node& node, const std::string& path,
-            const Setting* setting = nullptr) const {
-    if (!node.IsSequence() || node.size() != 3) {
-      fail(path, "value " + show(node) + " must be a list of 3 numbers [x, y, z]");
-    }
-    Vec3 v;
-    for (int k = 0; k < 3; ++k) {
-      const std::string component = path + "[" + std::to_string(k) + "]";
-      v[k] = setting ? number(node[k], component, *setting) : number(node[k], component);
-    }
-    return v;
-  }
-
-  /// A point of the scene: every coordinate within settings::kCoordinate.
-  Vec3 point(const YAML::Node& node, const std::string& path) const {
-    return vec3(node, path, &settings::kCoordinate);
-  }
-
-  std::string text(const YAML::Node& node, const std::string& path) const {
-    if (!node.IsScalar()) fail(path, "value " + show(node) + " must be a string");
-    return node.Scalar();
-  }
-
-  /// A name from a fixed list (solver, integrator, pattern, edge): short, so that the message
-  /// listing the names can quote it.
-  std::string word(const YAML::Node& node, const std::string& path) const {
-    const std::string name = text(node, path);
-    if (name.size() > kShown) fail(path, "value '" + clip(name) + "' is too long for a name");
-    return name;
-  }
-
-  const std::string& source() const { return source_; }
-
-  /// @p file as given if absolute, else relative to the directory of the scene file.
-  std::string resolve(const std::string& file) const {
-    if (!file.empty() && file[0] == '/') return file;
-    const auto slash = source_.find_last_of('/');
-    return slash == std::string::npos ? file : source_.substr(0, slash + 1) + file;
-  }
-
- private:
-  std::string source_;
-};
-
-void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& options) {
+/// solver: {name, iterations, substeps, tolerance, integrator} and, for every solver of the
+/// registry that has settings of its own, its block solver.<name>: {<field>: value, ...}.
+void readSolver(const SceneFields& r, const YAML::Node& node, SimulationOptions& options) {
   const std::string path = "solver";
-  r.map(node, path, {"name", "iterations", "substeps", "tolerance", "integrator", "chebyshev",
-                     "anderson", "lbfgs"});
+  std::set<std::string> keys = {"name", "iterations", "substeps", "tolerance", "integrator"};
+  for (const SolverEntry& entry : solverRegistry()) {
+    if (!entry.params.empty()) keys.insert(entry.name);
+  }
+  r.map(node, path, keys);
   if (node["name"]) {
     options.solver = r.word(node["name"], path + ".name");
     try {
-      makeSolver(options.solver);  // throws the message listing the names
+      solverEntry(options.solver);  // throws the message listing the names
     } catch (const std::invalid_argument& e) {
       r.fail(path + ".name", e.what());
     }
@@ -195,42 +44,34 @@ void readSolver(const Reader& r, const YAML::Node& node, SimulationOptions& opti
     }
   }
   if (node["iterations"]) {
-    s.max_iterations = r.integer(node["iterations"], path + ".iterations", settings::kIterations);
+    s.max_iterations =
+        r.integer(node["iterations"], settings::kIterations.name, settings::kIterations);
   }
   if (node["substeps"]) {
-    s.substeps = r.integer(node["substeps"], path + ".substeps", settings::kSubsteps);
+    s.substeps = r.integer(node["substeps"], settings::kSubsteps.name, settings::kSubsteps);
   }
   if (node["tolerance"]) {
-    s.tolerance = r.number(node["tolerance"], path + ".tolerance", settings::kTolerance);
+    s.tolerance = r.number(node["tolerance"], settings::kTolerance.name, settings::kTolerance);
   }
-  if (const YAML::Node c = node["chebyshev"]) {
-    const std::string cp = path + ".chebyshev";
-    r.map(c, cp, {"rho", "gamma", "delay"});
-    if (c["rho"]) s.chebyshev_rho = r.number(c["rho"], cp + ".rho", settings::kChebyshevRho);
-    if (c["gamma"]) {
-      s.chebyshev_gamma = r.number(c["gamma"], cp + ".gamma", settings::kChebyshevGamma);
+  for (const SolverEntry& entry : solverRegistry()) {
+    const YAML::Node block = node[entry.name];
+    if (!block) continue;
+    const std::string block_path = SceneFields::join(path, entry.name);
+    std::set<std::string> fields;
+    for (const SolverParam* param : entry.params) fields.insert(param->field());
+    r.map(block, block_path, fields);
+    for (const SolverParam* param : entry.params) {
+      const YAML::Node value = block[param->field()];
+      if (!value) continue;
+      s.params.set(*param, param->integer ? r.integer(value, param->name, *param)
+                                          : r.number(value, param->name, *param));
     }
-    if (c["delay"]) {
-      s.chebyshev_delay = r.integer(c["delay"], cp + ".delay", settings::kChebyshevDelay);
-    }
-  }
-  if (const YAML::Node a = node["anderson"]) {
-    const std::string ap = path + ".anderson";
-    r.map(a, ap, {"window"});
-    if (a["window"]) {
-      s.anderson_window = r.integer(a["window"], ap + ".window", settings::kAndersonWindow);
-    }
-  }
-  if (const YAML::Node l = node["lbfgs"]) {
-    const std::string lp = path + ".lbfgs";
-    r.map(l, lp, {"window"});
-    if (l["window"]) s.lbfgs_window = r.integer(l["window"], lp + ".window", settings::kLbfgsWindow);
   }
 }
 
 /// position [m] and orientation_rpy [rad] (fixed-axis roll about X, then pitch about Y, then yaw
 /// about Z, REP-103), both optional.
-Eigen::Isometry3d readPose(const Reader& r, const YAML::Node& node, const std::string& path) {
+Eigen::Isometry3d readPose(const SceneFields& r, const YAML::Node& node, const std::string& path) {
   Vec3 position = Vec3::Zero(), rpy = Vec3::Zero();
   if (node["position"]) position = r.point(node["position"], path + ".position");
   if (node["orientation_rpy"]) rpy = r.vec3(node["orientation_rpy"], path + ".orientation_rpy");
@@ -240,7 +81,7 @@ Eigen::Isometry3d readPose(const Reader& r, const YAML::Node& node, const std::s
 
 /// An OBJ file placed in the world: file (relative to the scene), position, orientation_rpy,
 /// scale. Errors from the file are reported on the 'file' field.
-TriangleMesh readPlacedMesh(const Reader& r, const YAML::Node& node, const std::string& path,
+TriangleMesh readPlacedMesh(const SceneFields& r, const YAML::Node& node, const std::string& path,
                             std::string& resolved) {
   if (!node["file"]) r.fail(path + ".file", "is required (an OBJ file)");
   resolved = r.resolve(r.text(node["file"], path + ".file"));
@@ -254,17 +95,15 @@ TriangleMesh readPlacedMesh(const Reader& r, const YAML::Node& node, const std::
   }
   // Placed, every vertex must still be a point of the scene (settings::kCoordinate).
   const double farthest = mesh.vertices.size() > 0 ? mesh.vertices.cwiseAbs().maxCoeff() : 0.0;
-  if (!settings::kCoordinate.range.contains(farthest)) {
-    std::ostringstream s;
-    s << "value " << scale << " (with the position) puts a vertex of " << resolved << " at "
-      << farthest << " m from the origin on an axis; every coordinate must be "
-      << settings::kCoordinate.requirement();
-    r.fail(path + ".scale", s.str());
+  if (!settings::kCoordinate.allows(farthest)) {
+    r.fail(path + ".scale",
+           "value " + formatNumber(scale) + " (with the position) puts a vertex of " + resolved +
+               " out of the scene: " + settings::kCoordinate.refusal(farthest, "its coordinate"));
   }
   return mesh;
 }
 
-void readClothMesh(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
+void readClothMesh(const SceneFields& r, const YAML::Node& node, SceneConfig& scene) {
   const std::string path = "cloth.mesh";
   r.map(node, path, {"file", "position", "orientation_rpy", "scale"});
   std::string resolved;
@@ -278,7 +117,7 @@ void readClothMesh(const Reader& r, const YAML::Node& node, SceneConfig& scene) 
   scene.cloth_kind = SceneConfig::ClothKind::kMesh;
 }
 
-void readGrid(const Reader& r, const YAML::Node& node, GridSpec& grid) {
+void readGrid(const SceneFields& r, const YAML::Node& node, GridSpec& grid) {
   const std::string path = "cloth.grid";
   r.map(node, path, {"rows", "cols", "size", "position", "orientation_rpy"});
   if (!node["rows"]) r.fail(path + ".rows", "is required");
@@ -288,14 +127,14 @@ void readGrid(const Reader& r, const YAML::Node& node, GridSpec& grid) {
   grid.cols = r.integer(node["cols"], path + ".cols", settings::kGridResolution);
   const YAML::Node size = node["size"];
   if (!size.IsSequence() || size.size() != 2) {
-    r.fail(path + ".size", "value " + Reader::show(size) + " must be [width, height] in m");
+    r.fail(path + ".size", "value " + SceneFields::show(size) + " must be [width, height] in m");
   }
   grid.width = r.number(size[0], path + ".size[0]", settings::kGridSize);
   grid.height = r.number(size[1], path + ".size[1]", settings::kGridSize);
   grid.pose = readPose(r, node, path);
 }
 
-void readMaterial(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
+void readMaterial(const SceneFields& r, const YAML::Node& node, SceneConfig& scene) {
   const std::string path = "material";
   r.map(node, path, {"areal_density", "damping", "springs", "shear_pattern"});
   const bool mesh = scene.cloth_kind == SceneConfig::ClothKind::kMesh;
@@ -337,7 +176,8 @@ void readMaterial(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
 }
 
 /// A box {min: [x,y,z], max: [x,y,z]} (m, world) with min <= max on every axis.
-Eigen::AlignedBox3d readRegion(const Reader& r, const YAML::Node& node, const std::string& path) {
+Eigen::AlignedBox3d readRegion(const SceneFields& r, const YAML::Node& node,
+                               const std::string& path) {
   r.map(node, path, {"min", "max"});
   if (!node["min"] || !node["max"]) r.fail(path, "needs 'min' and 'max' corners [x, y, z] in m");
   const Eigen::AlignedBox3d box(r.point(node["min"], path + ".min"), r.point(node["max"], path + ".max"));
@@ -346,8 +186,8 @@ Eigen::AlignedBox3d readRegion(const Reader& r, const YAML::Node& node, const st
 }
 
 /// Each entry's form; indices are checked against the cloth by resolvePins.
-void readPins(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
-  if (!node.IsSequence()) r.fail("pins", "value " + Reader::show(node) + " must be a list");
+void readPins(const SceneFields& r, const YAML::Node& node, SceneConfig& scene) {
+  if (!node.IsSequence()) r.fail("pins", "value " + SceneFields::show(node) + " must be a list");
   const bool grid = scene.cloth_kind == SceneConfig::ClothKind::kGrid;
   for (std::size_t k = 0; k < node.size(); ++k) {
     PinSelector pin;
@@ -394,7 +234,7 @@ void readPins(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
   }
 }
 
-void readMeshColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
+void readMeshColliders(const SceneFields& r, const YAML::Node& node, SceneConfig& scene) {
   if (!node.IsSequence()) r.fail("colliders.meshes", "must be a list");
   for (std::size_t k = 0; k < node.size(); ++k) {
     const std::string path = "colliders.meshes[" + std::to_string(k) + "]";
@@ -416,7 +256,7 @@ void readMeshColliders(const Reader& r, const YAML::Node& node, SceneConfig& sce
   }
 }
 
-void readColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) {
+void readColliders(const SceneFields& r, const YAML::Node& node, SceneConfig& scene) {
   r.map(node, "colliders", {"spheres", "meshes", "ground"});
   if (node["meshes"]) readMeshColliders(r, node["meshes"], scene);
   if (const YAML::Node spheres = node["spheres"]) {
@@ -457,17 +297,11 @@ void readColliders(const Reader& r, const YAML::Node& node, SceneConfig& scene) 
 }
 
 /// self_collision: {enabled, thickness, friction}; present = on unless enabled: false.
-void readSelfCollision(const Reader& r, const YAML::Node& node, SelfContactSettings& self) {
+void readSelfCollision(const SceneFields& r, const YAML::Node& node, SelfContactSettings& self) {
   const std::string path = "self_collision";
   r.map(node, path, {"enabled", "thickness", "friction"});
   self.enabled = true;
-  if (node["enabled"]) {
-    try {
-      self.enabled = node["enabled"].as<bool>();
-    } catch (const YAML::Exception&) {
-      r.fail(path + ".enabled", "value " + Reader::show(node["enabled"]) + " must be true or false");
-    }
-  }
+  if (node["enabled"]) self.enabled = r.boolean(node["enabled"], path + ".enabled");
   if (node["thickness"]) {
     self.thickness = r.number(node["thickness"], path + ".thickness", settings::kSelfThickness);
   }
@@ -479,7 +313,7 @@ void readSelfCollision(const Reader& r, const YAML::Node& node, SelfContactSetti
 }  // namespace
 
 SceneConfig parseScene(const std::string& yaml_text, const std::string& source) {
-  const Reader r(source);
+  const SceneFields r(source);
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);

@@ -1,8 +1,9 @@
 #include "cloth_sim/core/model/model.h"
 
-#include <cmath>
-#include <sstream>
 #include <stdexcept>
+#include <string>
+
+#include "cloth_sim/core/settings/settings_table.h"
 
 namespace cloth_sim {
 
@@ -36,6 +37,15 @@ double Model::familyStiffness(SpringFamily f) const {
   return 0.0;
 }
 
+const Setting& stiffnessSetting(SpringFamily family) {
+  switch (family) {
+    case SpringFamily::kStructural: return settings::kStructuralStiffness;
+    case SpringFamily::kShear: return settings::kShearStiffness;
+    case SpringFamily::kBending: break;
+  }
+  return settings::kBendingStiffness;
+}
+
 int Model::familySize(SpringFamily f) const {
   int n = 0;
   for (auto g : springs.family) n += (g == f) ? 1 : 0;
@@ -50,11 +60,7 @@ void Model::validate() const {
   const int n = particleCount();
   if (n == 0) fail("no particle");
   for (int i = 0; i < n; ++i) {
-    if (!std::isfinite(mass[i]) || mass[i] <= 0.0) {
-      std::ostringstream s;
-      s << "mass[" << i << "] = " << mass[i] << " kg must be finite and > 0";
-      fail(s.str());
-    }
+    settings::kParticleMass.require(mass[i], "model: mass[" + std::to_string(i) + "]");
   }
   const std::size_t m = springs.size();
   if (springs.second.size() != m || springs.rest_length.size() != m ||
@@ -63,26 +69,20 @@ void Model::validate() const {
   }
   for (std::size_t s = 0; s < m; ++s) {
     const int i = springs.first[s], j = springs.second[s];
-    std::ostringstream msg;
-    msg << "spring " << s << " (" << i << ", " << j << "): ";
-    if (i < 0 || j < 0 || i >= n || j >= n) fail(msg.str() + "particle index out of range");
-    if (i == j) fail(msg.str() + "joins a particle to itself");
-    if (!std::isfinite(springs.rest_length[s]) || springs.rest_length[s] <= 0.0) {
-      msg << "rest length " << springs.rest_length[s] << " m must be finite and > 0";
-      fail(msg.str());
-    }
-    if (!std::isfinite(springs.stiffness[s]) || springs.stiffness[s] < 0.0) {
-      msg << "stiffness " << springs.stiffness[s] << " N/m must be finite and >= 0";
-      fail(msg.str());
-    }
+    const std::string spring =
+        "spring " + std::to_string(s) + " (" + std::to_string(i) + ", " + std::to_string(j) + ")";
+    if (i < 0 || j < 0 || i >= n || j >= n) fail(spring + ": particle index out of range");
+    if (i == j) fail(spring + ": joins a particle to itself");
+    settings::kRestLength.require(springs.rest_length[s], "model: " + spring + " rest length");
+    stiffnessSetting(springs.family[s])
+        .require(springs.stiffness[s], "model: " + spring + " stiffness");
   }
   if (triangles.size() > 0 && (triangles.minCoeff() < 0 || triangles.maxCoeff() >= n)) {
     fail("triangle vertex index out of range");
   }
+  // Any finite gravity: a scene's is bounded (settings::kGravity), a program may test extremes.
   if (!gravity.allFinite()) fail("gravity must be finite");
-  if (!std::isfinite(damping) || damping < 0.0) {
-    fail("damping = " + std::to_string(damping) + " 1/s must be finite and >= 0");
-  }
+  settings::kDamping.require(damping, "model: damping");
 }
 
 State State::atRest(const Points& rest_positions) {

@@ -19,10 +19,7 @@ int PinSet::add(int vertex, const Vec3& target, double stiffness, int particle_c
                                 std::to_string(findByVertex(vertex)->id) + ")");
   }
   if (!target.allFinite()) throw std::invalid_argument("pin target must be finite");
-  if (!settings::kPinStiffness.range.contains(stiffness)) {
-    throw std::invalid_argument("pin stiffness " + std::to_string(stiffness) +
-                                " N/m must be finite and >= 0 (0 = hard pin)");
-  }
+  settings::kPinStiffness.require(stiffness, "pin stiffness");
   Pin p;
   p.id = next_id_++;
   p.vertex = vertex;

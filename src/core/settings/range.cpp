@@ -18,8 +18,9 @@ std::string Range::rule() const {
          formatNumber(max) + (max_open ? ")" : "]");
 }
 
-std::string formatNumber(double value) {
+std::string formatNumber(double value, int significant_digits) {
   std::ostringstream s;
+  s.precision(significant_digits);
   s << value;
   return s.str();
 }

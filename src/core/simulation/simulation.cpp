@@ -37,17 +37,11 @@ void stopDynamicSpheres(Colliders& colliders) {
 }  // namespace
 
 void SimulationOptions::validate() const {
-  if (!std::isfinite(frame_time) || frame_time <= 0.0) {
-    throw std::invalid_argument("frame_time (the scene's time_step) = " +
-                                std::to_string(frame_time) + " s must be finite and > 0");
-  }
+  settings::kTimeStep.require(frame_time, "frame_time (the scene's time_step)");
   settings.validate();
   self_contact.validate();
   makeSolver(solver)->requireSettings(settings);  // makeSolver lists the names
-  if (!settings::kDivergenceStrain.range.contains(divergence_strain)) {
-    throw std::invalid_argument("divergence_strain must be finite and " +
-                                settings::kDivergenceStrain.requirement());
-  }
+  settings::kDivergenceStrain.require(divergence_strain);
 }
 
 Simulation::Simulation(Model model, const Points& rest_positions, PinSet pins, Colliders colliders,
@@ -215,13 +209,7 @@ void Simulation::moveSphere(int id, const Vec3& center, const Vec3& velocity) {
 }
 
 void Simulation::setFamilyStiffness(SpringFamily family, double stiffness) {
-  const Setting& rule = family == SpringFamily::kStructural ? settings::kStructuralStiffness
-                        : family == SpringFamily::kShear    ? settings::kShearStiffness
-                                                            : settings::kBendingStiffness;
-  if (!rule.range.contains(stiffness)) {
-    throw std::invalid_argument(std::string(springFamilyName(family)) + " stiffness " +
-                                std::to_string(stiffness) + " N/m must be finite and >= 0");
-  }
+  stiffnessSetting(family).require(stiffness, std::string(springFamilyName(family)) + " stiffness");
   if (model_.familySize(family) == 0) {
     throw std::invalid_argument(std::string("this object has no ") + springFamilyName(family) +
                                 " springs");
@@ -232,18 +220,12 @@ void Simulation::setFamilyStiffness(SpringFamily family, double stiffness) {
 }
 
 void Simulation::setDamping(double damping) {
-  if (!settings::kDamping.range.contains(damping)) {
-    throw std::invalid_argument("damping " + std::to_string(damping) +
-                                " 1/s must be finite and >= 0");
-  }
+  settings::kDamping.require(damping, "damping");
   model_.damping = damping;
 }
 
 void Simulation::setTimeStep(double h) {
-  if (!settings::kTimeStep.range.contains(h)) {
-    throw std::invalid_argument("time step " + std::to_string(h) + " s must be finite and " +
-                                settings::kTimeStep.requirement());
-  }
+  settings::kTimeStep.require(h, "time step");
   if (h == options_.frame_time) return;
   options_.frame_time = h;
   changed(kStepSize);

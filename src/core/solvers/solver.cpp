@@ -1,9 +1,10 @@
 #include "cloth_sim/core/solvers/solver.h"
 
+#include <cassert>
 #include <cstddef>
 #include <stdexcept>
 
-#include "cloth_sim/core/settings/settings_table.h"
+#include "cloth_sim/core/solvers/registry.h"
 
 namespace cloth_sim {
 namespace {
@@ -63,11 +64,50 @@ Integrator integratorFromName(const std::string& name) {
   return fromName(kIntegrators, &integratorName, name, "integrator");
 }
 
+std::string SolverParam::field() const {
+  // "solver.<solver>.<field>": after the second dot.
+  const std::string full = name;
+  const auto first = full.find('.');
+  const auto second = first == std::string::npos ? first : full.find('.', first + 1);
+  return second == std::string::npos ? full : full.substr(second + 1);
+}
+
+double SolverParams::number(const SolverParam& param) const {
+  for (const auto& [p, value] : values_) {
+    if (p == &param) return value;
+  }
+  return param.default_value;
+}
+
+int SolverParams::integer(const SolverParam& param) const {
+  assert(param.integer);
+  return static_cast<int>(number(param));
+}
+
+void SolverParams::set(const SolverParam& param, double value) {
+  for (auto& [p, v] : values_) {
+    if (p == &param) {
+      v = value;
+      return;
+    }
+  }
+  values_.emplace_back(&param, value);
+}
+
+void SolverParams::validate() const {
+  for (const auto& [p, value] : values_) p->require(value);
+}
+
+bool Solver::supports(Integrator integrator) const {
+  return solverEntry(name()).capabilities.supports(integrator);
+}
+
 void requireIntegrator(const Solver& solver, Integrator integrator) {
   if (solver.supports(integrator)) return;
   std::string implicit;
-  for (const auto& n : solverNames()) {
-    if (makeSolver(n)->supports(integrator)) implicit += (implicit.empty() ? "" : ", ") + n;
+  for (const SolverEntry& entry : solverRegistry()) {
+    if (!entry.capabilities.supports(integrator)) continue;
+    implicit += (implicit.empty() ? "" : ", ") + std::string(entry.name);
   }
   throw std::invalid_argument(std::string("solver.integrator = ") + integratorName(integrator) +
                               " is not supported by " + solver.name() +
@@ -83,11 +123,7 @@ void SolverSettings::validate() const {
   settings::kIterations.require(max_iterations);
   settings::kSubsteps.require(substeps);
   settings::kTolerance.require(tolerance);
-  settings::kChebyshevRho.require(chebyshev_rho);
-  settings::kChebyshevGamma.require(chebyshev_gamma);
-  settings::kChebyshevDelay.require(chebyshev_delay);
-  settings::kAndersonWindow.require(anderson_window);
-  settings::kLbfgsWindow.require(lbfgs_window);
+  params.validate();
 }
 
 }  // namespace cloth_sim

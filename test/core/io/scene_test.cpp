@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "cloth_sim/core/io/scene.h"
+#include "cloth_sim/core/solvers/registry.h"
 #include "test_util.h"
 
 namespace cloth_sim {
@@ -118,7 +119,7 @@ struct Malformed {
 TEST(Scene, MalformedScenesAreRefusedNamingTheField) {
   const std::vector<Malformed> cases = {
       {"cloth:\n  grid: {rows: -3, cols: 5, size: [1, 1]}\nmaterial: {springs: {structural: 1}}",
-       "cloth.grid.rows", "value -3 must be an integer in [2, 2000]"},
+       "cloth.grid.rows", "value -3 must be in [2, 2000]"},
       {"cloth:\n  grid: {rowz: 3, rows: 3, cols: 5, size: [1, 1]}\nmaterial: {springs: {structural: 1}}",
        "cloth.grid.rowz", "unknown field"},
       {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 0]}\nmaterial: {springs: {structural: 1}}",
@@ -161,9 +162,9 @@ TEST(Scene, MalformedScenesAreRefusedNamingTheField) {
       // Sizes and positions whose derived masses or lengths overflow or lose precision,
       // and what the cloth cannot follow (scene_limits.h), name the field and the rule.
       {"cloth:\n  grid: {rows: 3, cols: 3, size: [1e308, 1e308]}\nmaterial: {springs: {shear: 1}}",
-       "cloth.grid.size[0]", "value 1e308 must be in [0.001, 10000] m"},
+       "cloth.grid.size[0]", "value 1e+308 must be in [0.001, 10000] m"},
       {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1], position: [1e300, 0, 0]}\nmaterial: {springs: {shear: 1}}",
-       "cloth.grid.position[0]", "value 1e300 must be in [-1e+06, 1e+06] m"},
+       "cloth.grid.position[0]", "value 1e+300 must be in [-1e+06, 1e+06] m"},
       {"cloth:\n  grid: {rows: 2000, cols: 2, size: [0.001, 0.001], position: [1e6, 0, 0]}\nmaterial: {springs: {shear: 1}}",
        "cloth.grid.position", "rest lengths would lose their precision"},
       {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\npins: [{vertex: 0, target: [1e6, 0, 0]}]",
@@ -214,7 +215,7 @@ TEST(Scene, MalformedMeshScenesAreRefusedNamingTheField) {
        "cloth", "exactly one of 'grid' or 'mesh'"},
       {"cloth:\n  mesh: {scale: 2}\nmaterial: {springs: {structural: 1}}", "cloth.mesh.file", "is required"},
       {meshScene(quad, "").replace(meshScene(quad, "").find("}"), 1, ", scale: 1e6, position: [1e6, 0, 0]}"),
-       "cloth.mesh.scale", "every coordinate must be in [-1e+06, 1e+06] m"},
+       "cloth.mesh.scale", "out of the scene: its coordinate 2e+06 must be in [-1e+06, 1e+06] m"},
       {meshScene("test/data/missing.obj", ""), "cloth.mesh.file", "cannot open the OBJ file"},
       {meshScene("test/data/nonmanifold.obj", ""), "cloth.mesh.file", "non-manifold edge (0, 1)"},
       {meshScene("test/data/degenerate.obj", ""), "cloth.mesh.file", "triangle 1 (0, 1, 3) is degenerate"},
@@ -313,6 +314,55 @@ TEST(Scene, TheReaderKeepsPinSelectorsAsData) {
     EXPECT_EQ(e.field(), "pins[0].row");
     EXPECT_STREQ(e.what(), "selectors: field 'pins[0].row': value 9 must be an integer in [0, 3]");
   }
+}
+
+TEST(Scene, SolverBlocksAreReadFromTheRegistry) {
+  const SceneConfig s = parseScene(
+      "solver: {chebyshev: {rho: 0.5, delay: 4}, lbfgs: {window: 9}}\n" + std::string(kValid),
+      "blocks");
+  const SolverEntry& chebyshev = solverEntry("chebyshev");
+  ASSERT_EQ(chebyshev.params.size(), 3u);
+  EXPECT_EQ(s.options.settings.params.number(*chebyshev.params[0]), 0.5);  // rho
+  EXPECT_EQ(s.options.settings.params.number(*chebyshev.params[1]), 1.0);  // gamma: default
+  EXPECT_EQ(s.options.settings.params.integer(*chebyshev.params[2]), 4);   // delay
+  EXPECT_EQ(s.options.settings.params.integer(*solverEntry("lbfgs").params[0]), 9);
+  try {
+    parseScene("solver: {anderson: {windows: 3}}\n" + std::string(kValid), "blocks");
+    ADD_FAILURE() << "an unknown field of a block accepted";
+  } catch (const SceneError& e) {
+    EXPECT_STREQ(e.what(),
+                 "blocks: field 'solver.anderson.windows': unknown field (known here: window)");
+  }
+  try {  // a solver without settings of its own has no block
+    parseScene("solver: {newton: {window: 3}}\n" + std::string(kValid), "blocks");
+    ADD_FAILURE() << "a block of newton accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.field(), "solver.newton");
+  }
+}
+
+TEST(SceneOverrides, AResolutionKeepsPinsWhereTheyAreOnTheSheet) {
+  SceneConfig scene = parseScene(std::string(kValid) +
+                                     "pins: [{row: 3, col: 4}, {vertex: 4}, {edge: top}]\n"
+                                     "self_collision: {thickness: 0.2}\n",
+                                 "resized");
+  ASSERT_EQ(scene.grid.rows, 4);
+  ASSERT_EQ(scene.grid.cols, 5);
+  SceneOverrides overrides;
+  overrides.resolution = 7;
+  const SceneConfig resized = applyOverrides(scene, overrides);
+  EXPECT_EQ(resized.grid.rows, 7);
+  EXPECT_EQ(resized.grid.cols, 7);
+  EXPECT_EQ(resized.pins[0].row, 6);  // the far corner stays the far corner
+  EXPECT_EQ(resized.pins[0].col, 6);
+  EXPECT_EQ(resized.pins[1].vertex, 6);  // row 0, last column
+  EXPECT_EQ(resized.pins[2].edge, "top");
+  EXPECT_EQ(resized.options.self_contact.thickness, 0.0);  // automatic at the new spacing
+  EXPECT_NO_THROW(makeSimulation(resized));
+
+  SceneConfig mesh = scene;
+  mesh.cloth_kind = SceneConfig::ClothKind::kMesh;
+  EXPECT_THROW(applyOverrides(mesh, overrides), SceneError);
 }
 
 }  // namespace

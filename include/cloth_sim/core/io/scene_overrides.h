@@ -1,13 +1,15 @@
 /// @file scene_overrides.h
 /// What a caller replaces in a scene before building it: the node's ~solver / ~iterations /
-/// ~substeps, the runner's --solver, --iterations, --substeps, --tolerance, --linear-solver, --dt,
-/// --warm-start, --integrator. Each caller
-/// checks its values against settings_table.h in its own message format; Simulation checks the
-/// result again when it is built.
+/// ~substeps / ~self_collision, the runner's --solver, --iterations, --substeps, --tolerance,
+/// --linear-solver, --dt, --warm-start, --integrator, --self-collision and --resolution, the
+/// benchmark's configurations. Each caller checks its values against settings_table.h, naming
+/// them as it calls them (Setting::refusal); Simulation checks the result when it is built.
 #pragma once
 
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "cloth_sim/core/io/scene_reader.h"
 
@@ -23,11 +25,19 @@ struct SceneOverrides {
   std::optional<double> time_step;              ///< s
   std::optional<bool> warm_start;               ///< SolverSettings::warm_start
   std::optional<Integrator> integrator;         ///< SolverSettings::integrator
+  /// Per-solver settings (SolverSettings::params), each replacing the scene's value.
+  std::vector<std::pair<const SolverParam*, double>> params;
   /// SelfContactSettings::enabled (on with the scene's thickness and friction, or defaults).
   std::optional<bool> self_collision;
+  /// A grid cloth of this many particles a side (rows = cols): a pin on a vertex or a row and
+  /// column moves to the same place on the sheet (corners stay corners; edge and region
+  /// selectors hold at any resolution), and self_collision.thickness becomes automatic (the
+  /// scene's was for its own spacing). Refused for a mesh cloth.
+  std::optional<int> resolution;
 };
 
-/// @p scene with the non-empty fields of @p overrides in place of its own.
+/// @p scene with the non-empty fields of @p overrides in place of its own. Throws SceneError
+/// (field "cloth") for a resolution on a mesh cloth.
 SceneConfig applyOverrides(SceneConfig scene, const SceneOverrides& overrides);
 
 }  // namespace cloth_sim

@@ -2,35 +2,25 @@
 /// Scene files (docs/scene_format.md): YAML (yaml-cpp) turned into plain, validated data. The
 /// reader builds nothing: pins stay selectors (vertex, row/col, edge, region) until
 /// scene_builder.h resolves them against the cloth it builds. Each number is checked against its
-/// entry in settings/settings_table.h, with a message naming field, value and rule.
+/// entry in settings/settings_table.h (a solver's block against its registry entry's settings),
+/// the message naming field, value and rule (SceneError, Setting::refusal). The typed reading
+/// of the YAML nodes is scene_fields.h.
 #pragma once
 
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
 
 #include "cloth_sim/core/collision/colliders.h"
+#include "cloth_sim/core/io/scene_error.h"
 #include "cloth_sim/core/model/grid_builder.h"
 #include "cloth_sim/core/model/mesh_builder.h"
 #include "cloth_sim/core/simulation/simulation.h"
 
 namespace cloth_sim {
-
-/// A scene file that cannot be used. what() reads
-/// "<source>: field '<path>': <value> <rule>" (or a YAML syntax error with its line).
-class SceneError : public std::runtime_error {
- public:
-  SceneError(const std::string& source, const std::string& field, const std::string& problem);
-  /// Dotted path of the offending field, e.g. "cloth.grid.rows" or "pins[2].row".
-  const std::string& field() const { return field_; }
-
- private:
-  std::string field_;
-};
 
 /// Which vertices one entry of 'pins' holds, as the scene says it (resolved by resolvePins).
 struct PinSelector {

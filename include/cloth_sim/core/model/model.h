@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "cloth_sim/core/linalg/types.h"
+#include "cloth_sim/core/settings/settings_table.h"
 
 namespace cloth_sim {
 
@@ -23,6 +24,9 @@ constexpr int kSpringFamilyCount = 3;
 
 /// Lower-case name used in scene files and messages: "structural", "shear", "bending".
 const char* springFamilyName(SpringFamily family);
+/// The rule of @p family's stiffness: settings::kStructuralStiffness, kShearStiffness or
+/// kBendingStiffness.
+const Setting& stiffnessSetting(SpringFamily family);
 
 /// Springs in structure-of-arrays layout. Spring s joins particles first[s] and second[s] with
 /// Hooke energy 1/2 stiffness[s] (|x_i - x_j| - rest_length[s])^2.
@@ -57,8 +61,9 @@ struct Model {
   double familyStiffness(SpringFamily family) const;
   /// Number of springs in @p family.
   int familySize(SpringFamily family) const;
-  /// Throws std::invalid_argument naming the first inconsistent field (non-positive mass,
-  /// spring index out of range, zero rest length, non-finite value, ...).
+  /// Throws std::invalid_argument naming the first inconsistent field: a spring index out of
+  /// range, a non-finite gravity, or a number its entry of settings_table.h refuses (mass, rest
+  /// length, stiffness by family, damping: Setting::require).
   void validate() const;
 };
 

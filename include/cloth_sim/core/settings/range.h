@@ -1,6 +1,6 @@
 /// @file range.h
-/// The rule a tunable number must satisfy, written once and checked by every layer (scene
-/// reader, core validate, node parameters, runner options), each with its own message format.
+/// The interval a tunable number must lie in (settings_table.h gives each setting one), and how
+/// numbers are shown in messages.
 #pragma once
 
 #include <limits>
@@ -33,7 +33,7 @@ struct Range {
   std::string rule() const;
 };
 
-/// @p value as the messages show it: shortest form, "0.05", "100000", "nan".
-std::string formatNumber(double value);
+/// @p value as the messages show it, to @p significant_digits: "0.05", "100000", "1e+09", "nan".
+std::string formatNumber(double value, int significant_digits = 6);
 
 }  // namespace cloth_sim

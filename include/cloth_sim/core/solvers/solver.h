@@ -5,10 +5,12 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cloth_sim/core/model/model.h"
 #include "cloth_sim/core/model/pins.h"
+#include "cloth_sim/core/settings/settings_table.h"
 
 namespace cloth_sim {
 
@@ -54,8 +56,42 @@ std::vector<std::string> integratorNames();
 /// The Integrator called @p name; throws std::invalid_argument listing the names if unknown.
 Integrator integratorFromName(const std::string& name);
 
-/// Iteration controls shared by the solvers (each uses what applies to it). The allowed range
-/// of each field is its entry in settings/settings_table.h (settings::kIterations, ...).
+/// A setting of one solver only, in its registry entry's block (solvers/registry.h; the scene's
+/// solver.<solver>.<field>): a Setting (name "solver.<solver>.<field>", range, unit, note, doc)
+/// and the value a solver uses when none is given. It is declared with its solver (e.g.
+/// settings::kChebyshevRho in chebyshev_acceleration.h), so that a solver's settings stay in
+/// solvers/.
+struct SolverParam : Setting {
+  double default_value;  ///< in the setting's unit; allowed by it (tested)
+
+  /// The field within the solver's block: the name after "solver.<solver>." ("rho").
+  std::string field() const;
+};
+
+/// Values of per-solver settings (SolverParam), each read by its solver with number() or
+/// integer(); one that was never set reads as its default. Values for any solver may be held
+/// (a scene may give the chebyshev block and run local_global): only the solver that declares a
+/// setting reads it.
+class SolverParams {
+ public:
+  /// The value of @p param (its unit): the one set, else param.default_value.
+  double number(const SolverParam& param) const;
+  /// number(param) as an int, for an integer setting (param.integer).
+  int integer(const SolverParam& param) const;
+  /// Gives @p param the value @p value, checked by validate() as every SolverSettings field.
+  void set(const SolverParam& param, double value);
+  /// Throws std::invalid_argument (Setting::require, named by the setting's name) for the first
+  /// value its setting refuses.
+  void validate() const;
+
+ private:
+  /// The values set, in the order first set.
+  std::vector<std::pair<const SolverParam*, double>> values_;
+};
+
+/// Iteration controls shared by the solvers (each uses what applies to it: its registry entry's
+/// capabilities, solvers/registry.h), and the values of the per-solver settings. The allowed
+/// range of each field is its entry in settings/settings_table.h (settings::kIterations, ...).
 struct SolverSettings {
   /// Iterations per step: local/global and chebyshev run exactly this many unless tolerance
   /// stops them first; newton uses it as a cap. Ignored by the explicit solvers.
@@ -67,24 +103,14 @@ struct SolverSettings {
   /// Stop when the convergence measure (relative position change of the last iteration, see
   /// SolveResult) drops below this. 0 = always run max_iterations (fixed real-time cost).
   double tolerance = 0.0;
-  /// chebyshev: spectral radius rho of plain local/global, < 1. 0 = the upper bound
-  /// localGlobalRhoBound (an overestimate only slows the acceleration down; an underestimate,
-  /// as the former measured value was, makes the slow modes grow until the safeguard restarts).
-  double chebyshev_rho = 0.0;
-  /// chebyshev: under-relaxation gamma of Wang 2015, at most 1. 1 (none) converged 5-30 %
-  /// faster than Wang's 0.9 on the benchmark scenes.
-  double chebyshev_gamma = 1.0;
-  /// chebyshev: plain local/global iterations before acceleration starts (Wang's S).
-  int chebyshev_delay = 3;
-  /// anderson: number m of past iterates whose differences form the least-squares model
-  /// (Peng et al. 2018 use 5-10).
-  int anderson_window = 5;
-  /// lbfgs: number m of (s, t) pairs kept by L-BFGS (Liu, Bouaziz, Kavan 2017 use 5).
-  int lbfgs_window = 5;
-  /// local_global, chebyshev, anderson, lbfgs: start each step from y + (x_n - y_{n-1}), the previous step's
-  /// correction, instead of y, whenever that start has the lower objective g. Motion is
-  /// coherent from step to step, so the correction (what the springs did to the inertial
-  /// prediction) changes little: fewer iterations for the same error.
+  /// The per-solver settings (chebyshev's rho, gamma and delay, anderson's and lbfgs's
+  /// window, ...: each solver's registry entry lists its own).
+  SolverParams params;
+  /// The solvers whose capabilities have warm_start (the local/global family): start each step
+  /// from y + (x_n - y_{n-1}), the previous step's correction, instead of y, whenever that
+  /// start has the lower objective g. Motion is coherent from step to step, so the correction
+  /// (what the springs did to the inertial prediction) changes little: fewer iterations for the
+  /// same error.
   bool warm_start = false;
   /// How the linear systems are solved (same result, different speed), see LinearSolver.
   LinearSolver linear_solver = LinearSolver::kFused;
@@ -94,7 +120,7 @@ struct SolverSettings {
   Integrator integrator = Integrator::kImplicitEuler;
 
   /// Throws std::invalid_argument naming the first field out of its range
-  /// ("solver.iterations = 0 must be in [1, 100000]").
+  /// ("solver.iterations 0 must be in [1, 100000]", Setting::refusal).
   void validate() const;
 };
 
@@ -147,11 +173,9 @@ class Solver {
   /// Advances @p state by one step. May leave non-finite values on blow-up: the caller checks.
   virtual SolveResult step(const SolverInput& input, const SolverSettings& settings,
                            State& state) = 0;
-  /// Whether step() can integrate with @p integrator (the explicit solvers only know their own).
-  virtual bool supports(Integrator integrator) const {
-    (void)integrator;
-    return true;
-  }
+  /// Whether step() can integrate with @p integrator: its registry entry's capabilities (the
+  /// explicit solvers and xpbd only know their own scheme).
+  bool supports(Integrator integrator) const;
   /// Throws std::invalid_argument naming the field when step() cannot honour @p settings
   /// (Simulation checks it before a solver or its settings are used). By default: the
   /// integrator (requireIntegrator).

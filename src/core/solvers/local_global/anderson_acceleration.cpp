@@ -6,7 +6,7 @@
 namespace cloth_sim {
 
 void AndersonAcceleration::begin(const SolverInput&, const SolverSettings& settings) {
-  window_ = settings.anderson_window;
+  window_ = settings.params.integer(settings::kAndersonWindow);
   clearHistory();
 }
 

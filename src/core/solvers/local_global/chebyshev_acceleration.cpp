@@ -23,10 +23,11 @@ double localGlobalRhoBound(const Model& model, double h) {
 }
 
 void ChebyshevAcceleration::begin(const SolverInput& in, const SolverSettings& settings) {
-  if (settings.chebyshev_rho > 0.0) rho_ = settings.chebyshev_rho;
+  const double rho = settings.params.number(settings::kChebyshevRho);
+  if (rho > 0.0) rho_ = rho;
   else rho_cache_.ensure(in.revision, [&] { rho_ = localGlobalRhoBound(in.model, in.h); });
-  gamma_ = settings.chebyshev_gamma;
-  delay_ = settings.chebyshev_delay;
+  gamma_ = settings.params.number(settings::kChebyshevGamma);
+  delay_ = settings.params.integer(settings::kChebyshevDelay);
   omega_ = 1.0;
   since_restart_ = 0;
 }

@@ -120,7 +120,7 @@ SolveResult LbfgsSolver::step(const SolverInput& in, const SolverSettings& setti
       }
       continue;  // the next direction is the plain local/global one
     }
-    pushPair(x, next, settings.lbfgs_window);
+    pushPair(x, next, settings.params.integer(settings::kLbfgsWindow));
     result.iterations = solves;
     result.convergence = relativeChange(next.x, x.x, start);
     std::swap(x, next);

@@ -266,11 +266,11 @@ TEST(Anderson, WindowOfOneStillConvergesAndWindowIsValidated) {
   SwingingCloth c;
   State s = c.state;
   SolverSettings settings = test::convergedSettings(100000, 1e-12);
-  settings.anderson_window = 1;
+  settings.params.set(settings::kAndersonWindow, 1);
   EXPECT_TRUE(anderson.step(c.input(), settings, s).converged);
-  settings.anderson_window = 0;
+  settings.params.set(settings::kAndersonWindow, 0);
   EXPECT_THROW(settings.validate(), std::invalid_argument);
-  settings.anderson_window = 51;
+  settings.params.set(settings::kAndersonWindow, 51);
   EXPECT_THROW(settings.validate(), std::invalid_argument);
   EXPECT_STREQ(makeSolver("anderson")->name(), "anderson");
 }
@@ -370,12 +370,12 @@ TEST(Lbfgs, ObserverSeesTheResultAndWindowIsValidated) {
 
   lbfgs.setIterateObserver({});
   SolverSettings settings = test::convergedSettings(100000, 1e-12);
-  settings.lbfgs_window = 1;
+  settings.params.set(settings::kLbfgsWindow, 1);
   s = c.state;
   EXPECT_TRUE(lbfgs.step(c.input(), settings, s).converged);
-  settings.lbfgs_window = 0;
+  settings.params.set(settings::kLbfgsWindow, 0);
   EXPECT_THROW(settings.validate(), std::invalid_argument);
-  settings.lbfgs_window = 51;
+  settings.params.set(settings::kLbfgsWindow, 51);
   EXPECT_THROW(settings.validate(), std::invalid_argument);
   EXPECT_STREQ(makeSolver("lbfgs")->name(), "lbfgs");
 }

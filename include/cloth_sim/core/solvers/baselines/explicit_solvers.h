@@ -11,10 +11,6 @@ namespace cloth_sim {
 class ExplicitEulerSolver final : public Solver {
  public:
   const char* name() const override { return "explicit_euler"; }
-  /// Only Integrator::kImplicitEuler (the default, meaning "this solver's own scheme").
-  bool supports(Integrator integrator) const override {
-    return integrator == Integrator::kImplicitEuler;
-  }
   SolveResult step(const SolverInput& input, const SolverSettings& settings,
                    State& state) override;
 };
@@ -24,10 +20,6 @@ class ExplicitEulerSolver final : public Solver {
 class VerletSolver final : public Solver {
  public:
   const char* name() const override { return "verlet"; }
-  /// Only Integrator::kImplicitEuler (the default, meaning "this solver's own scheme").
-  bool supports(Integrator integrator) const override {
-    return integrator == Integrator::kImplicitEuler;
-  }
   SolveResult step(const SolverInput& input, const SolverSettings& settings,
                    State& state) override;
 };

@@ -31,15 +31,12 @@ namespace cloth_sim {
 /// without pins and gravity. Contacts are left to Simulation's projection after the step
 /// (SolveResult::used_contacts false). Single-threaded.
 ///
-/// It integrates with its own scheme: kBdf2 and kImplicitMidpoint are refused (supports()), and
+/// It integrates with its own scheme: kBdf2 and kImplicitMidpoint are refused (supports(), from
+/// its registry entry), and
 /// step() refuses a tolerance or a warm start, which it has no use for, naming the field.
 class XpbdSolver final : public Solver {
  public:
   const char* name() const override { return "xpbd"; }
-  /// Only Integrator::kImplicitEuler (the default, meaning "this solver's own scheme").
-  bool supports(Integrator integrator) const override {
-    return integrator == Integrator::kImplicitEuler;
-  }
   /// Throws std::invalid_argument naming the field for solver.integrator = bdf2 or
   /// implicit_midpoint, solver.tolerance > 0 or solver.warm_start = true.
   void requireSettings(const SolverSettings& settings) const override;

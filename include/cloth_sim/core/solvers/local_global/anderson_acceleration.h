@@ -9,9 +9,18 @@
 
 namespace cloth_sim {
 
+namespace settings {
+/// anderson: number m of past iterates whose differences form the least-squares model (Peng et
+/// al. 2018 use 5-10).
+inline constexpr SolverParam kAndersonWindow{
+    {"solver.anderson.window", "", Range::closed(1, 50), true, "", "",
+     "Past iterates in Anderson's least-squares model", 0},
+    5};
+}  // namespace settings
+
 /// Anderson extrapolation of the local/global fixed-point map G: with residuals
 /// F_j = G(x_j) - x_j and the last m differences dF_j = F_{j+1} - F_j, dG_j = G(x_{j+1}) - G(x_j)
-/// (m = SolverSettings::anderson_window):
+/// (m = settings::kAndersonWindow):
 ///   theta = argmin |F_k - dF theta|_2,   x_{k+1} = G(x_k) - dG theta.
 /// A restart (the driver's safeguard) clears the history. Per iteration it adds O(m n) vector
 /// work (n = 4 N doubles) to the local/global iteration.

@@ -11,13 +11,20 @@
 
 namespace cloth_sim {
 
+namespace settings {
+/// lbfgs: number m of (s, t) pairs kept by L-BFGS (Liu, Bouaziz, Kavan 2017 use 5).
+inline constexpr SolverParam kLbfgsWindow{{"solver.lbfgs.window", "", Range::closed(1, 50), true,
+                                           "", "", "(s, t) pairs kept by L-BFGS", 0},
+                                          5};
+}  // namespace settings
+
 /// L-BFGS on g(x) = 1/2 (x - y)^T M (x - y) + h^2 E(x) - h^2 x^T f_ext (docs/method.md) with the
 /// initial inverse Hessian H0 = A^-1, A = M + h^2 L the prefactored local/global matrix
 /// (Liu, Bouaziz, Kavan 2017, sec. 4 and Algorithm 1). Per iteration:
 ///  - gradient grad g(x) = A x - b(x) (LocalGlobalProblem::objectiveAndGradient: one spring pass and one product
 ///    with A; it comes with the energy of the previous line-search point);
 ///  - two-loop recursion over the last m pairs s_i = x_{i+1} - x_i, t_i = grad_{i+1} - grad_i
-///    (m = SolverSettings::lbfgs_window): q = grad; alpha_i = s_i.q / s_i.t_i, q -= alpha_i t_i
+///    (m = settings::kLbfgsWindow): q = grad; alpha_i = s_i.q / s_i.t_i, q -= alpha_i t_i
 ///    (newest first); r = A^-1 q (ONE solve); beta_i = t_i.r / s_i.t_i, r += (alpha_i - beta_i) s_i
 ///    (oldest first); direction p = -r;
 ///  - Armijo backtracking g(x + a p) <= g(x) + 1e-4 a grad.p from a = 1, halving at most 5
