@@ -13,6 +13,7 @@
 #include "cloth_sim/core/model/strain_field.h"
 #include "cloth_sim/node/conversions.h"
 #include "cloth_sim/node/grasp_output.h"
+#include "cloth_sim/node/names.h"
 #include "cloth_sim/node/point_cloud.h"
 
 namespace cloth_sim::node {
@@ -42,9 +43,8 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       tf_listener_(tf_buffer_),
       frames_(tf_buffer_, options_.frame_id),
       grasp_frames_(tf_buffer_, options_.frame_id, options_.grasp_frame_timeout),
-      // With ~publish_clock the node owns ROS time: simulated time 0 is ROS time 1 s, because
-      // a ROS time of 0 means "no time yet" to ROS nodes and "the latest" to tf2.
-      clock_(options_.publish_clock ? ros::Time(1, 0) : ros::Time::now()),
+      // With ~publish_clock the node owns ROS time (names::kSimTimeOriginSec says why not 0).
+      clock_(options_.publish_clock ? ros::Time(names::kSimTimeOriginSec, 0) : ros::Time::now()),
       paused_(options_.start_paused),
       nh_(nh),
       pnh_(pnh),
@@ -64,36 +64,36 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
   const double extent = (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).maxCoeff();
   ground_size_ = std::max(3.0, 3.0 * extent);
 
-  markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("cloth/markers", 2);
-  state_pub_ = nh_.advertise<ClothState>("cloth/state", 10);
-  points_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("cloth/points", 2);
+  markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>(names::kMarkers, 2);
+  state_pub_ = nh_.advertise<ClothState>(names::kState, 10);
+  points_pub_ = nh_.advertise<sensor_msgs::PointCloud2>(names::kPoints, 2);
   if (options_.publish_clock) {
-    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10, /*latch=*/true);
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>(names::kClock, 10, /*latch=*/true);
     if (!ros::Time::isSimTime()) {
       ROS_WARN("~publish_clock is true but /use_sim_time is not: this node and the others keep "
                "the wall time (set /use_sim_time true before the nodes start)");
     }
   }
-  pin_move_sub_ = nh_.subscribe("cloth/pin_move", 20, &ClothSimNode::onPinMove, this);
+  pin_move_sub_ = nh_.subscribe(names::kPinMove, 20, &ClothSimNode::onPinMove, this);
   services_ = {
-      nh_.advertiseService("cloth/spawn_sphere", &ClothSimNode::onSpawnSphere, this),
-      nh_.advertiseService("cloth/remove_sphere", &ClothSimNode::onRemoveSphere, this),
-      nh_.advertiseService("cloth/add_pin", &ClothSimNode::onAddPin, this),
-      nh_.advertiseService("cloth/remove_pin", &ClothSimNode::onRemovePin, this),
-      nh_.advertiseService("cloth/reset", &ClothSimNode::onReset, this),
-      nh_.advertiseService("cloth/grasp", &ClothSimNode::onGrasp, this),
-      nh_.advertiseService("cloth/release", &ClothSimNode::onRelease, this),
-      nh_.advertiseService("cloth/pause", &ClothSimNode::onPause, this),
-      nh_.advertiseService("cloth/unpause", &ClothSimNode::onUnpause, this),
-      nh_.advertiseService("cloth/step", &ClothSimNode::onStep, this),
+      nh_.advertiseService(names::kSpawnSphere, &ClothSimNode::onSpawnSphere, this),
+      nh_.advertiseService(names::kRemoveSphere, &ClothSimNode::onRemoveSphere, this),
+      nh_.advertiseService(names::kAddPin, &ClothSimNode::onAddPin, this),
+      nh_.advertiseService(names::kRemovePin, &ClothSimNode::onRemovePin, this),
+      nh_.advertiseService(names::kReset, &ClothSimNode::onReset, this),
+      nh_.advertiseService(names::kGrasp, &ClothSimNode::onGrasp, this),
+      nh_.advertiseService(names::kRelease, &ClothSimNode::onRelease, this),
+      nh_.advertiseService(names::kPause, &ClothSimNode::onPause, this),
+      nh_.advertiseService(names::kUnpause, &ClothSimNode::onUnpause, this),
+      nh_.advertiseService(names::kStep, &ClothSimNode::onStep, this),
   };
   // Each substep asks where the grasp frames are at its own simulated time.
   sim_.setGraspPoseSource(
       [this](int id, double t) { return grasp_frames_.poseAt(id, clock_.stamp(t)); });
   publishClock();
 
-  diagnostics_.setHardwareID("cloth_sim:" + scene_name_);
-  diagnostics_.add("simulation step", this, &ClothSimNode::diagnose);
+  diagnostics_.setHardwareID(names::kHardwareIdPrefix + scene_name_);
+  diagnostics_.add(names::kDiagnosticsTask, this, &ClothSimNode::diagnose);
 
   // The scene (with ~solver / ~iterations) gives the initial values; the server then reports
   // them and calls back on every change.
@@ -105,8 +105,10 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
 
   if (options_.max_interactive_pins > 0) {
     pin_handles_ = std::make_unique<PinHandles>(
-        "cloth/pin_handles", options_.frame_id, options_.max_interactive_pins,
-        [this](int id, const geometry_msgs::PointStamped& target) { movePin("cloth/pin_handles", id, target); },
+        names::kPinHandles, options_.frame_id, options_.max_interactive_pins,
+        [this](int id, const geometry_msgs::PointStamped& target) {
+          movePin(names::kPinHandles, id, target);
+        },
         handleSizeFor(limits_.size));
     pin_handles_->sync(sim_.pins().pins());
   }
@@ -126,12 +128,12 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
     summary_timer_ = nh_.createSteadyTimer(ros::WallDuration(options_.summary_period),
                                            &ClothSimNode::logSummary, this);
   }
-  ROS_INFO("cloth_sim_node: scene '%s' (%d particles, %zu springs, %zu pins), solver %s with "
-           "%d substeps of %d iterations, frame %.4f s, markers at %.1f Hz in frame '%s'",
-           scene_name_.c_str(), sim_.model().particleCount(), sim_.model().springs.size(),
-           sim_.pins().size(), sim_.solver().name(), sim_.solverSettings().substeps,
-           sim_.solverSettings().max_iterations, h,
-           options_.render_rate, options_.frame_id.c_str());
+  ROS_INFO(
+      "%s: scene '%s' (%d particles, %zu springs, %zu pins), solver %s with %d substeps of "
+      "%d iterations, frame %.4f s, markers at %.1f Hz in frame '%s'",
+      names::kNode, scene_name_.c_str(), sim_.model().particleCount(), sim_.model().springs.size(),
+      sim_.pins().size(), sim_.solver().name(), sim_.solverSettings().substeps,
+      sim_.solverSettings().max_iterations, h, options_.render_rate, options_.frame_id.c_str());
 }
 
 void ClothSimNode::step(const ros::SteadyTimerEvent&) {
@@ -219,8 +221,8 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
   header.frame_id = options_.frame_id;
   MarkerBuild build = buildMarkers(scene, style_, header, shown_);
   if (build.sanitized > 0) {
-    refuse("cloth/markers", std::to_string(build.sanitized) +
-                                " non-finite numbers in the state were drawn as 0");
+    refuse(names::kMarkers,
+           std::to_string(build.sanitized) + " non-finite numbers in the state were drawn as 0");
   }
   shown_ = std::move(build.shown);
   appendGraspMarkers(sim_.grasps(), grasp_frames_, options_.force_arrow_scale, header,
@@ -349,9 +351,9 @@ void ClothSimNode::onReconfigure(ClothSimConfig& config, std::uint32_t /*level*/
     if (!changed) return;
     try {
       set();
-      ROS_INFO("reconfigure: %s changed", name);
+      ROS_INFO("%s: %s changed", names::kReconfigure, name);
     } catch (const std::exception& e) {
-      refuse(std::string("reconfigure ") + name, e.what());
+      refuse(std::string(names::kReconfigure) + " " + name, e.what());
       revert();
     }
   };

@@ -5,6 +5,7 @@
 
 #include "cloth_sim/node/cloth_sim_node.h"
 #include "cloth_sim/node/conversions.h"
+#include "cloth_sim/node/names.h"
 
 namespace cloth_sim::node {
 namespace {
@@ -29,12 +30,12 @@ void ClothSimNode::movePin(const char* source, int pin_id,
 }
 
 void ClothSimNode::onPinMove(const PinMove::ConstPtr& msg) {
-  movePin("cloth/pin_move", msg->id, msg->target);
+  movePin(names::kPinMove, msg->id, msg->target);
 }
 
 bool ClothSimNode::onSpawnSphere(SpawnSphere::Request& req, SpawnSphere::Response& res) {
   res.id = -1;
-  return answer("cloth/spawn_sphere", res, [&] {
+  return answer(names::kSpawnSphere, res, [&] {
     const Vec3 center = frames_.point(req.center, "center");
     const Vec3 velocity = frames_.vector(req.center.header, req.velocity, "velocity");
     const SphereCollider sphere = sphereFromRequest(req, center, velocity);
@@ -47,7 +48,7 @@ bool ClothSimNode::onSpawnSphere(SpawnSphere::Request& req, SpawnSphere::Respons
 }
 
 bool ClothSimNode::onRemoveSphere(RemoveSphere::Request& req, RemoveSphere::Response& res) {
-  return answer("cloth/remove_sphere", res, [&] {
+  return answer(names::kRemoveSphere, res, [&] {
     sim_.removeSphere(req.id);
     return "sphere " + std::to_string(req.id) + " removed";
   });
@@ -56,7 +57,7 @@ bool ClothSimNode::onRemoveSphere(RemoveSphere::Request& req, RemoveSphere::Resp
 bool ClothSimNode::onAddPin(AddPin::Request& req, AddPin::Response& res) {
   res.id = -1;
   res.vertex = -1;
-  return answer("cloth/add_pin", res, [&] {
+  return answer(names::kAddPin, res, [&] {
     const int n = sim_.model().particleCount();
     int vertex = req.vertex;
     if (vertex == -1) {
@@ -74,14 +75,14 @@ bool ClothSimNode::onAddPin(AddPin::Request& req, AddPin::Response& res) {
 }
 
 bool ClothSimNode::onRemovePin(RemovePin::Request& req, RemovePin::Response& res) {
-  return answer("cloth/remove_pin", res, [&] {
+  return answer(names::kRemovePin, res, [&] {
     sim_.removePin(req.id);
     return "pin " + std::to_string(req.id) + " removed";
   });
 }
 
 bool ClothSimNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
-  return answer("cloth/reset", res, [&] {
+  return answer(names::kReset, res, [&] {
     resetSimulation("requested on cloth/reset", /*automatic=*/false);
     return "simulation reset to the initial state of scene '" + scene_name_ + "' (pins, spheres)";
   });
