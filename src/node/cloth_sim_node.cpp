@@ -21,17 +21,6 @@ namespace {
 
 constexpr double kDiagnosticsPoll = 0.25;  ///< s; the updater publishes every ~diagnostic_period
 
-/// The family a reconfigure field sets.
-struct FamilyField {
-  SpringFamily family;
-  double ClothSimConfig::*value;
-};
-constexpr FamilyField kFamilyFields[] = {
-    {SpringFamily::kStructural, &ClothSimConfig::structural_stiffness},
-    {SpringFamily::kShear, &ClothSimConfig::shear_stiffness},
-    {SpringFamily::kBending, &ClothSimConfig::bending_stiffness},
-};
-
 }  // namespace
 
 ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions options,
@@ -40,6 +29,7 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       scene_name_(std::move(scene_name)),
       sim_(std::move(sim)),
       monitor_(sim_.frameTime(), options_.max_rollbacks),
+      budget_(frameBudgetFor(options_.budget_ms)),  // checked by validateNodeOptions
       tf_listener_(tf_buffer_),
       frames_(tf_buffer_, options_.frame_id),
       grasp_frames_(tf_buffer_, options_.frame_id, options_.grasp_frame_timeout),
@@ -49,7 +39,6 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       nh_(nh),
       pnh_(pnh),
       diagnostics_(nh, pnh) {
-  setFrameBudget(options_.budget_ms);
   style_.strain_color_scale = options_.strain_color_scale;
   style_.shading = options_.shading;
   style_.color_mode = colorModeFromName(options_.color_mode);  // checked by validateNodeOptions
@@ -99,7 +88,7 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
   // them and calls back on every change.
   reconfigure_ =
       std::make_unique<dynamic_reconfigure::Server<ClothSimConfig>>(reconfigure_mutex_, pnh_);
-  reconfigure_->updateConfig(currentConfig());
+  reconfigure_->updateConfig(bridge_.current());
   reconfigure_->setCallback(
       [this](ClothSimConfig& config, std::uint32_t level) { onReconfigure(config, level); });
 
@@ -174,11 +163,6 @@ void ClothSimNode::stepFrame() {
   cullSpheres();
 }
 
-void ClothSimNode::setFrameBudget(double budget_ms) {
-  if (budget_ms > 0.0) budget_.emplace(1e-3 * budget_ms, 1, settings::kSubsteps.range.max);
-  else budget_.reset();
-}
-
 void ClothSimNode::adaptSubsteps() {
   if (!budget_) return;
   SolverSettings settings = sim_.solverSettings();
@@ -188,7 +172,7 @@ void ClothSimNode::adaptSubsteps() {
   sim_.setSolverSettings(settings);  // a valid count (FrameBudget keeps to kSubsteps' range)
   ROS_INFO_THROTTLE(1.0, "~budget_ms %.2f: %d substeps per frame (one substep %.3f ms)",
                     1e3 * budget_->budget(), chosen, 1e3 * budget_->substepCost());
-  if (reconfigure_) reconfigure_->updateConfig(currentConfig());
+  if (reconfigure_) reconfigure_->updateConfig(bridge_.current());
 }
 
 void ClothSimNode::render(const ros::SteadyTimerEvent&) {
@@ -329,72 +313,16 @@ void ClothSimNode::logSummary(const ros::SteadyTimerEvent&) {
            sim_.pins().size(), sim_.colliders().spheres().size(), stepStatusName(r.status));
 }
 
-ClothSimConfig ClothSimNode::currentConfig() const {
-  ClothSimConfig c;
-  for (const FamilyField& f : kFamilyFields) c.*f.value = sim_.model().familyStiffness(f.family);
-  c.damping = sim_.model().damping;
-  c.solver = sim_.solver().name();
-  c.iterations = sim_.solverSettings().max_iterations;
-  c.substeps = sim_.solverSettings().substeps;
-  c.budget_ms = budget_ ? 1e3 * budget_->budget() : 0.0;
-  c.self_collision = sim_.selfContact() != nullptr;
-  c.color_mode = style_.color_mode == ColorMode::kShaded ? "shaded" : "strain";
-  return c;
-}
-
 void ClothSimNode::onReconfigure(ClothSimConfig& config, std::uint32_t /*level*/) {
-  // Each field is applied on its own; a refused one is put back to the value in use, which the
-  // server then reports to every client.
-  const ClothSimConfig current = currentConfig();
-  auto apply = [&](const char* name, bool changed, const std::function<void()>& set,
-                   const std::function<void()>& revert) {
-    if (!changed) return;
-    try {
-      set();
-      ROS_INFO("%s: %s changed", names::kReconfigure, name);
-    } catch (const std::exception& e) {
-      refuse(std::string(names::kReconfigure) + " " + name, e.what());
-      revert();
+  // A refused field is put back to the value in use, which the server then reports to every
+  // client.
+  for (const FieldOutcome& f : bridge_.apply(config)) {
+    if (f.applied) {
+      ROS_INFO("%s: %s changed", names::kReconfigure, f.field.c_str());
+    } else {
+      refuse(std::string(names::kReconfigure) + " " + f.field, f.why);
     }
-  };
-  for (const FamilyField& f : kFamilyFields) {
-    const std::string name = std::string(springFamilyName(f.family)) + "_stiffness";
-    apply(name.c_str(), config.*f.value != current.*f.value,
-          [&] { sim_.setFamilyStiffness(f.family, config.*f.value); },
-          [&] { config.*f.value = current.*f.value; });
   }
-  apply("damping", config.damping != current.damping, [&] { sim_.setDamping(config.damping); },
-        [&] { config.damping = current.damping; });
-  apply("solver", config.solver != current.solver, [&] { sim_.setSolver(config.solver); },
-        [&] { config.solver = current.solver; });
-  auto applySolverSetting = [&](const char* name, int ClothSimConfig::*field,
-                                int SolverSettings::*setting) {
-    apply(name, config.*field != current.*field,
-          [&] {
-            SolverSettings settings = sim_.solverSettings();
-            settings.*setting = config.*field;
-            sim_.setSolverSettings(settings);
-          },
-          [&] { config.*field = current.*field; });
-  };
-  apply("color_mode", config.color_mode != current.color_mode,
-        [&] { style_.color_mode = colorModeFromName(config.color_mode); },
-        [&] { config.color_mode = current.color_mode; });
-  applySolverSetting("iterations", &ClothSimConfig::iterations, &SolverSettings::max_iterations);
-  applySolverSetting("substeps", &ClothSimConfig::substeps, &SolverSettings::substeps);
-  apply("budget_ms", config.budget_ms != current.budget_ms,
-        [&] {
-          settings::kFrameBudget.require(config.budget_ms);
-          setFrameBudget(config.budget_ms);
-        },
-        [&] { config.budget_ms = current.budget_ms; });
-  apply("self_collision", config.self_collision != current.self_collision,
-        [&] {
-          SelfContactSettings self = sim_.options().self_contact;
-          self.enabled = config.self_collision;
-          sim_.setSelfContact(self);
-        },
-        [&] { config.self_collision = current.self_collision; });
 }
 
 }  // namespace cloth_sim::node

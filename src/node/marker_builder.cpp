@@ -155,10 +155,15 @@ Marker makeObstacle(const MeshObstacle& obstacle, int id, const std_msgs::Header
 }  // namespace
 
 ColorMode colorModeFromName(const std::string& name) {
-  if (name == "strain") return ColorMode::kStrain;
-  if (name == "shaded") return ColorMode::kShaded;
+  for (ColorMode mode : {ColorMode::kStrain, ColorMode::kShaded}) {
+    if (name == colorModeName(mode)) return mode;
+  }
   throw std::invalid_argument("color mode '" + name.substr(0, 64) +
                               "' must be 'strain' or 'shaded'");
+}
+
+const char* colorModeName(ColorMode mode) {
+  return mode == ColorMode::kShaded ? "shaded" : "strain";
 }
 
 std_msgs::ColorRGBA strainColor(double strain, double scale) {

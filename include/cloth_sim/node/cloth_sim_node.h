@@ -39,8 +39,9 @@
 #include "cloth_sim/node/marker_builder.h"
 #include "cloth_sim/node/options.h"
 #include "cloth_sim/node/pin_handles.h"
-#include "cloth_sim/node/sim_clock.h"
+#include "cloth_sim/node/reconfigure_bridge.h"
 #include "cloth_sim/node/render_pacer.h"
+#include "cloth_sim/node/sim_clock.h"
 #include "cloth_sim/node/step_monitor.h"
 
 namespace cloth_sim::node {
@@ -67,15 +68,13 @@ class ClothSimNode {
   /// One frame: the core's step, the monitor, cloth/state, the wrenches, /clock, and the
   /// automatic reset when due.
   void stepFrame();
-  /// Frame budget on (> 0 ms) or off (0).
-  void setFrameBudget(double budget_ms);
   /// With a frame budget: the next frame's substeps from this frame's wall time.
   void adaptSubsteps();
   void render(const ros::SteadyTimerEvent&);
   void logSummary(const ros::SteadyTimerEvent&);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
+  /// Applies a request through the ReconfigureBridge and logs each field's outcome.
   void onReconfigure(ClothSimConfig& config, std::uint32_t level);
-  ClothSimConfig currentConfig() const;
   /// Back to the initial state; @p why goes to the log (throttled when @p automatic).
   void resetSimulation(const std::string& why, bool automatic);
   /// The pins that get drag handles: all but the grasps' (their frame moves them).
@@ -130,6 +129,8 @@ class ClothSimNode {
   std::optional<FrameBudget> budget_;
   LogThrottle refusals_{5.0};
   MarkerStyle style_;
+  /// What dynamic_reconfigure changes: sim_, budget_ and style_.color_mode.
+  ReconfigureBridge bridge_{sim_, budget_, style_.color_mode};
   ShownMarkers shown_;
   Vec3 cloth_center_;   ///< m, centre of the initial positions
   SceneLimits limits_;  ///< what runtime inputs may ask (reach: ~sphere_cull_distance)

@@ -45,6 +45,8 @@ enum class ColorMode {
 };
 /// "strain" or "shaded" -> the mode; throws std::invalid_argument listing both.
 ColorMode colorModeFromName(const std::string& name);
+/// The mode's name, "strain" or "shaded" (the inverse of colorModeFromName).
+const char* colorModeName(ColorMode mode);
 
 /// How things look.
 struct MarkerStyle {
