@@ -19,6 +19,7 @@ add_library(cloth_sim_ros
   src/node/point_cloud.cpp
   src/node/render_pacer.cpp
   src/node/reconfigure_bridge.cpp
+  src/node/diagnostics_report.cpp
 )
 target_include_directories(cloth_sim_ros PUBLIC include)
 target_link_libraries(cloth_sim_ros PUBLIC cloth_sim_core ${catkin_LIBRARIES})
@@ -57,7 +58,7 @@ if(CATKIN_ENABLE_TESTING)
   set(NODE_UNIT_TESTS
     options_test conversions_test frame_resolver_test marker_builder_test step_monitor_test
     pin_handles_test reconfigure_cfg_test grasp_frames_test grasp_output_test render_pacer_test
-    reconfigure_bridge_test)
+    reconfigure_bridge_test diagnostics_report_test)
   foreach(t ${NODE_UNIT_TESTS})
     catkin_add_gtest(node_${t} test/node/${t}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
     target_link_libraries(node_${t} cloth_sim_ros GTest::gtest_main)

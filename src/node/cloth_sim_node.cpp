@@ -30,6 +30,7 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       sim_(std::move(sim)),
       monitor_(sim_.frameTime(), options_.max_rollbacks),
       budget_(frameBudgetFor(options_.budget_ms)),  // checked by validateNodeOptions
+      real_time_(ros::SteadyTime::now().toSec()),
       tf_listener_(tf_buffer_),
       frames_(tf_buffer_, options_.frame_id),
       grasp_frames_(tf_buffer_, options_.frame_id, options_.grasp_frame_timeout),
@@ -102,7 +103,6 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
     pin_handles_->sync(sim_.pins().pins());
   }
 
-  window_start_ = ros::SteadyTime::now();
   const double h = sim_.frameTime();
   // A frame per tick; at ~real_time_factor 0 the ticks come back to back (other callbacks still
   // run between them: one spinner thread, one queue).
@@ -134,8 +134,11 @@ void ClothSimNode::stepFrame() {
   last_report_ = sim_.step();
   ++steps_since_reset_;
   const bool rolled_back = last_report_.status != StepStatus::kOk;
-  if (rolled_back) warnThrottled("rolled back", "step: " + last_report_.message);
-  else window_sim_time_ += sim_.frameTime();
+  if (rolled_back) {
+    warnThrottled("rolled back", "step: " + last_report_.message);
+  } else {
+    real_time_.add(sim_.frameTime());
+  }
   const bool must_reset = monitor_.record(rolled_back, last_report_.wall_time);
 
   std_msgs::Header header;
@@ -265,43 +268,27 @@ void ClothSimNode::warnThrottled(const std::string& key, const std::string& text
 }
 
 void ClothSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
-  const ros::SteadyTime now = ros::SteadyTime::now();
-  const double wall = (now - window_start_).toSec();
-  const double real_time_factor = wall > 0.0 ? window_sim_time_ / wall : 0.0;
-  window_start_ = now;
-  window_sim_time_ = 0.0;
-  const StepWindow w = monitor_.takeWindow();
-  const HealthReport health = assess(w);
-  status.summary(static_cast<std::uint8_t>(health.level), health.message);
-  status.add("scene", scene_name_);
-  status.add("solver", sim_.solver().name());
-  status.add("substeps per frame", sim_.solverSettings().substeps);
-  status.addf("frame budget (ms)", "%.3f", budget_ ? 1e3 * budget_->budget() : 0.0);
-  status.add("iterations per substep", sim_.solverSettings().max_iterations);
-  status.addf("step budget (ms)", "%.3f", 1e3 * w.budget);
-  status.addf("mean step time (ms)", "%.3f", 1e3 * w.mean_time);
-  status.addf("max step time (ms)", "%.3f", 1e3 * w.max_time);
-  status.add("steps", w.steps);
-  status.add("overruns", w.overruns);
-  status.add("rolled-back steps", w.rollbacks);
-  status.addf("real-time factor", "%.3f", real_time_factor);
-  status.add("total overruns", monitor_.totalOverruns());
-  status.add("total rolled-back steps", monitor_.totalRollbacks());
-  status.add("consecutive rolled-back steps", monitor_.consecutiveFailures());
-  status.add("divergence resets", monitor_.divergenceResets());
-  status.addf("sim time (s)", "%.3f", sim_.state().time);
-  status.add("pins", sim_.pins().size());
-  status.add("spheres", sim_.colliders().spheres().size());
-  status.add("grasps", sim_.grasps().size());
-  status.add("paused", paused_ ? "yes" : "no");
-  const std::vector<std::string> stale = grasp_frames_.staleFrames();
-  if (!stale.empty()) {
-    std::string frames;
-    for (const std::string& f : stale) frames += (frames.empty() ? "" : ", ") + f;
-    status.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN,
-                        "grasp frame stopped updating, held at its last pose: " + frames);
-    status.add("stale grasp frames", frames);
-  }
+  DiagnosticsInput in;
+  in.scene = scene_name_;
+  in.solver = sim_.solver().name();
+  in.substeps = sim_.solverSettings().substeps;
+  in.iterations = sim_.solverSettings().max_iterations;
+  in.frame_budget = budget_ ? budget_->budget() : 0.0;
+  in.window = monitor_.takeWindow();
+  in.real_time_factor = real_time_.take(ros::SteadyTime::now().toSec());
+  in.total_overruns = monitor_.totalOverruns();
+  in.total_rollbacks = monitor_.totalRollbacks();
+  in.consecutive_failures = monitor_.consecutiveFailures();
+  in.divergence_resets = monitor_.divergenceResets();
+  in.sim_time = sim_.state().time;
+  in.pins = sim_.pins().size();
+  in.spheres = sim_.colliders().spheres().size();
+  in.grasps = sim_.grasps().size();
+  in.paused = paused_;
+  in.stale_grasp_frames = grasp_frames_.staleFrames();
+  const DiagnosticsReport report = diagnosticsReport(in);
+  status.summary(static_cast<std::uint8_t>(report.level), report.message);
+  for (const auto& [key, value] : report.values) status.add(key, value);
 }
 
 void ClothSimNode::logSummary(const ros::SteadyTimerEvent&) {

@@ -33,6 +33,7 @@
 #include "cloth_sim/core/frame_budget.h"
 #include "cloth_sim/core/io/scene_limits.h"
 #include "cloth_sim/core/simulation.h"
+#include "cloth_sim/node/diagnostics_report.h"
 #include "cloth_sim/node/frame_resolver.h"
 #include "cloth_sim/node/grasp_frames.h"
 #include "cloth_sim/node/log_throttle.h"
@@ -72,6 +73,7 @@ class ClothSimNode {
   void adaptSubsteps();
   void render(const ros::SteadyTimerEvent&);
   void logSummary(const ros::SteadyTimerEvent&);
+  /// Copies diagnosticsReport() of this period into @p status.
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
   /// Applies a request through the ReconfigureBridge and logs each field's outcome.
   void onReconfigure(ClothSimConfig& config, std::uint32_t level);
@@ -137,8 +139,7 @@ class ClothSimNode {
   double ground_size_;  ///< m
   std::uint64_t steps_since_reset_ = 0;
   StepReport last_report_;
-  double window_sim_time_ = 0.0;  ///< s simulated since the last diagnostics report
-  ros::SteadyTime window_start_;
+  RealTimeWindow real_time_;  ///< simulated over wall time since the last diagnostics report
 
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
