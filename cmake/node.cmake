@@ -1,8 +1,8 @@
 # The ROS shell: node units, cloth_sim_node, pin_teleop and their tests
 # (included from CMakeLists.txt, after catkin_package).
 # ---------------------------------------------------------------------------------------------
-# cloth_sim_ros: the node's units (options, conversions, tf, markers, monitoring, handles,
-# teleop logic); pure ones are unit-tested without a master.
+# cloth_sim_ros: the node's units (names, options, conversions, tf, markers, monitoring,
+# diagnostics, reconfigure, handles, teleop logic); pure ones are unit-tested without a master.
 include_directories(SYSTEM ${catkin_INCLUDE_DIRS})  # node targets only: included last
 
 add_library(cloth_sim_ros

@@ -21,6 +21,20 @@ namespace {
 
 constexpr double kDiagnosticsPoll = 0.25;  ///< s; the updater publishes every ~diagnostic_period
 
+/// How the markers look: ~strain_color_scale, ~shading, ~color_mode, and pins drawn with the
+/// handles' scale but no wider than the particle spacing, so a pinned edge reads as a row of
+/// beads, not a wall (trampoline, gravity_well).
+MarkerStyle styleFor(const NodeOptions& options, const Simulation& sim, const SceneLimits& limits) {
+  MarkerStyle style;
+  style.strain_color_scale = options.strain_color_scale;
+  style.shading = options.shading;
+  style.color_mode = colorModeFromName(options.color_mode);  // checked by validateNodeOptions
+  const auto& rest = sim.model().springs.rest_length;
+  const double spacing = rest.empty() ? limits.size : *std::min_element(rest.begin(), rest.end());
+  style.pin_diameter = std::min(0.4 * handleSizeFor(limits.size), 0.8 * spacing);
+  return style;
+}
+
 }  // namespace
 
 ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions options,
@@ -29,7 +43,10 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       scene_name_(std::move(scene_name)),
       sim_(std::move(sim)),
       monitor_(sim_.frameTime(), options_.max_rollbacks),
+      limits_(SceneLimits::of(sim_, options_.sphere_cull_distance)),
       budget_(frameBudgetFor(options_.budget_ms)),  // checked by validateNodeOptions
+      style_(styleFor(options_, sim_, limits_)),
+      ground_size_(std::max(3.0, 3.0 * limits_.size)),
       real_time_(ros::SteadyTime::now().toSec()),
       tf_listener_(tf_buffer_),
       frames_(tf_buffer_, options_.frame_id),
@@ -40,20 +57,26 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       nh_(nh),
       pnh_(pnh),
       diagnostics_(nh, pnh) {
-  style_.strain_color_scale = options_.strain_color_scale;
-  style_.shading = options_.shading;
-  style_.color_mode = colorModeFromName(options_.color_mode);  // checked by validateNodeOptions
-  const Points& x = sim_.state().positions;
-  cloth_center_ = x.rowwise().mean();
-  limits_ = SceneLimits::of(sim_, options_.sphere_cull_distance);
-  // Pins drawn with the handles' scale, but no wider than the particle spacing, so a pinned
-  // edge reads as a row of beads, not a wall (trampoline, gravity_well).
-  const auto& rest = sim_.model().springs.rest_length;
-  const double spacing = rest.empty() ? limits_.size : *std::min_element(rest.begin(), rest.end());
-  style_.pin_diameter = std::min(0.4 * handleSizeFor(limits_.size), 0.8 * spacing);
-  const double extent = (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).maxCoeff();
-  ground_size_ = std::max(3.0, 3.0 * extent);
+  advertiseTopics();
+  advertiseServices();
+  // Each substep asks where the grasp frames are at its own simulated time.
+  sim_.setGraspPoseSource(
+      [this](int id, double t) { return grasp_frames_.poseAt(id, clock_.stamp(t)); });
+  publishClock();
+  startDiagnostics();
+  startReconfigure();
+  startPinHandles();
+  startTimers();
+  ROS_INFO(
+      "%s: scene '%s' (%d particles, %zu springs, %zu pins), solver %s with %d substeps of "
+      "%d iterations, frame %.4f s, markers at %.1f Hz in frame '%s'",
+      names::kNode, scene_name_.c_str(), sim_.model().particleCount(), sim_.model().springs.size(),
+      sim_.pins().size(), sim_.solver().name(), sim_.solverSettings().substeps,
+      sim_.solverSettings().max_iterations, sim_.frameTime(), options_.render_rate,
+      options_.frame_id.c_str());
+}
 
+void ClothSimNode::advertiseTopics() {
   markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>(names::kMarkers, 2);
   state_pub_ = nh_.advertise<ClothState>(names::kState, 10);
   points_pub_ = nh_.advertise<sensor_msgs::PointCloud2>(names::kPoints, 2);
@@ -65,6 +88,9 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
     }
   }
   pin_move_sub_ = nh_.subscribe(names::kPinMove, 20, &ClothSimNode::onPinMove, this);
+}
+
+void ClothSimNode::advertiseServices() {
   services_ = {
       nh_.advertiseService(names::kSpawnSphere, &ClothSimNode::onSpawnSphere, this),
       nh_.advertiseService(names::kRemoveSphere, &ClothSimNode::onRemoveSphere, this),
@@ -77,14 +103,14 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       nh_.advertiseService(names::kUnpause, &ClothSimNode::onUnpause, this),
       nh_.advertiseService(names::kStep, &ClothSimNode::onStep, this),
   };
-  // Each substep asks where the grasp frames are at its own simulated time.
-  sim_.setGraspPoseSource(
-      [this](int id, double t) { return grasp_frames_.poseAt(id, clock_.stamp(t)); });
-  publishClock();
+}
 
+void ClothSimNode::startDiagnostics() {
   diagnostics_.setHardwareID(names::kHardwareIdPrefix + scene_name_);
   diagnostics_.add(names::kDiagnosticsTask, this, &ClothSimNode::diagnose);
+}
 
+void ClothSimNode::startReconfigure() {
   // The scene (with ~solver / ~iterations) gives the initial values; the server then reports
   // them and calls back on every change.
   reconfigure_ =
@@ -92,20 +118,23 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
   reconfigure_->updateConfig(bridge_.current());
   reconfigure_->setCallback(
       [this](ClothSimConfig& config, std::uint32_t level) { onReconfigure(config, level); });
+}
 
-  if (options_.max_interactive_pins > 0) {
-    pin_handles_ = std::make_unique<PinHandles>(
-        names::kPinHandles, options_.frame_id, options_.max_interactive_pins,
-        [this](int id, const geometry_msgs::PointStamped& target) {
-          movePin(names::kPinHandles, id, target);
-        },
-        handleSizeFor(limits_.size));
-    pin_handles_->sync(sim_.pins().pins());
-  }
+void ClothSimNode::startPinHandles() {
+  if (options_.max_interactive_pins <= 0) return;
+  pin_handles_ = std::make_unique<PinHandles>(
+      names::kPinHandles, options_.frame_id, options_.max_interactive_pins,
+      [this](int id, const geometry_msgs::PointStamped& target) {
+        movePin(names::kPinHandles, id, target);
+      },
+      handleSizeFor(limits_.size));
+  pin_handles_->sync(sim_.pins().pins());
+}
 
-  const double h = sim_.frameTime();
+void ClothSimNode::startTimers() {
   // A frame per tick; at ~real_time_factor 0 the ticks come back to back (other callbacks still
   // run between them: one spinner thread, one queue).
+  const double h = sim_.frameTime();
   const double period = options_.real_time_factor > 0.0 ? h / options_.real_time_factor : 1e-5;
   step_timer_ = nh_.createSteadyTimer(ros::WallDuration(period), &ClothSimNode::step, this);
   render_timer_ = nh_.createSteadyTimer(ros::WallDuration(1.0 / options_.render_rate),
@@ -117,12 +146,6 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
     summary_timer_ = nh_.createSteadyTimer(ros::WallDuration(options_.summary_period),
                                            &ClothSimNode::logSummary, this);
   }
-  ROS_INFO(
-      "%s: scene '%s' (%d particles, %zu springs, %zu pins), solver %s with %d substeps of "
-      "%d iterations, frame %.4f s, markers at %.1f Hz in frame '%s'",
-      names::kNode, scene_name_.c_str(), sim_.model().particleCount(), sim_.model().springs.size(),
-      sim_.pins().size(), sim_.solver().name(), sim_.solverSettings().substeps,
-      sim_.solverSettings().max_iterations, h, options_.render_rate, options_.frame_id.c_str());
 }
 
 void ClothSimNode::step(const ros::SteadyTimerEvent&) {
@@ -200,7 +223,7 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
                           sim_.pins().pins(),
                           sim_.colliders().spheres(),
                           sim_.colliders().ground(),
-                          cloth_center_,
+                          limits_.center,
                           ground_size_,
                           with_obstacles ? &sim_.colliders().meshes() : nullptr};
   std_msgs::Header header;
@@ -249,12 +272,12 @@ void ClothSimNode::resetSimulation(const std::string& why, bool automatic) {
 void ClothSimNode::cullSpheres() {
   std::vector<int> gone;
   for (const SphereCollider& s : sim_.colliders().spheres()) {
-    if ((s.center - cloth_center_).norm() > options_.sphere_cull_distance) gone.push_back(s.id);
+    if ((s.center - limits_.center).norm() > limits_.reach) gone.push_back(s.id);
   }
   for (int id : gone) {
     sim_.removeSphere(id);
     ROS_INFO("sphere %d removed: farther than ~sphere_cull_distance = %g m from the cloth", id,
-             options_.sphere_cull_distance);
+             limits_.reach);
   }
 }
 

@@ -63,6 +63,20 @@ class ClothSimNode {
                std::string scene_name, Simulation sim);
 
  private:
+  // --- wiring (cloth_sim_node.cpp): each called once by the constructor ----------------------
+  /// cloth/markers, cloth/state, cloth/points, /clock (with ~publish_clock) and cloth/pin_move.
+  void advertiseTopics();
+  /// The cloth/... services.
+  void advertiseServices();
+  /// The "simulation step" status on /diagnostics.
+  void startDiagnostics();
+  /// The dynamic_reconfigure server, reporting the values in use and calling onReconfigure.
+  void startReconfigure();
+  /// The pins' drag handles, when ~max_interactive_pins > 0.
+  void startPinHandles();
+  /// The step, render, diagnostics and summary timers.
+  void startTimers();
+
   // --- scheduling (cloth_sim_node.cpp) --------------------------------------------------------
   /// The step timer: one frame unless paused.
   void step(const ros::SteadyTimerEvent&);
@@ -127,6 +141,9 @@ class ClothSimNode {
   std::string scene_name_;
   Simulation sim_;
   StepMonitor monitor_;
+  /// What runtime inputs may ask (reach: ~sphere_cull_distance), and the cloth's initial centre
+  /// and size the markers and the culling use.
+  SceneLimits limits_;
   /// ~budget_ms / reconfigure budget_ms > 0: picks each frame's substeps (adaptSubsteps).
   std::optional<FrameBudget> budget_;
   LogThrottle refusals_{5.0};
@@ -134,8 +151,6 @@ class ClothSimNode {
   /// What dynamic_reconfigure changes: sim_, budget_ and style_.color_mode.
   ReconfigureBridge bridge_{sim_, budget_, style_.color_mode};
   ShownMarkers shown_;
-  Vec3 cloth_center_;   ///< m, centre of the initial positions
-  SceneLimits limits_;  ///< what runtime inputs may ask (reach: ~sphere_cull_distance)
   double ground_size_;  ///< m
   std::uint64_t steps_since_reset_ = 0;
   StepReport last_report_;
