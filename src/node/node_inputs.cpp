@@ -1,6 +1,8 @@
 // The inputs of cloth_sim_node: the pin_move topic, the services and the drag handles. Each
-// checks what it is given, refuses what it cannot use with a message saying why, and leaves
-// the simulation untouched when it refuses (the core edits validate before they change).
+// brings its points into ~frame_id (FrameResolver refuses a non-finite one or an unknown frame)
+// and hands the values to the core, whose checks (the edits of Simulation, SceneLimits) refuse
+// what it cannot use with a message saying why; the node adds no rule of its own, and a refusal
+// leaves the simulation untouched (the core edits validate before they change).
 #include <sstream>
 
 #include "cloth_sim/node/cloth_sim_node.h"
@@ -38,7 +40,7 @@ bool ClothSimNode::onSpawnSphere(SpawnSphere::Request& req, SpawnSphere::Respons
   return answer(names::kSpawnSphere, res, [&] {
     const Vec3 center = frames_.point(req.center, "center");
     const Vec3 velocity = frames_.vector(req.center.header, req.velocity, "velocity");
-    const SphereCollider sphere = sphereFromRequest(req, center, velocity);
+    const SphereCollider sphere = sphereFromRequest(req, center, velocity);  // a valid sphere
     limits_.checkSphere("", sphere, sim_.model().time_step);  // what the cloth can follow
     res.id = sim_.addSphere(sphere);
     return "sphere " + std::to_string(res.id) + " at " + str(center) + " m, radius " +
@@ -58,14 +60,9 @@ bool ClothSimNode::onAddPin(AddPin::Request& req, AddPin::Response& res) {
   res.id = -1;
   res.vertex = -1;
   return answer(names::kAddPin, res, [&] {
-    const int n = sim_.model().particleCount();
-    int vertex = req.vertex;
-    if (vertex == -1) {
-      vertex = sim_.nearestParticle(frames_.point(req.point, "point"));
-    } else if (vertex < 0 || vertex >= n) {
-      throw std::invalid_argument("vertex " + std::to_string(vertex) + " is out of range [0, " +
-                                  std::to_string(n) + ") (-1 = the one nearest to 'point')");
-    }
+    // -1 = the particle nearest to 'point'; any other vertex is the core's to check.
+    const int vertex =
+        req.vertex == -1 ? sim_.nearestParticle(frames_.point(req.point, "point")) : req.vertex;
     res.id = sim_.addPinHere(vertex, req.stiffness);
     res.vertex = vertex;
     return "pin " + std::to_string(res.id) + " holds vertex " + std::to_string(vertex) +

@@ -53,8 +53,8 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   probe();
   const auto ok = stamped("world", 0.0, 0.0, 1.0);
   std::vector<std::pair<SpawnSphere::Request, std::string>> cases = {
-      {sphere(ok, 0.0), "radius 0 m must be in (0, 1e+06]"},
-      {sphere(ok, -0.1), "radius -0.1 m must be in (0, 1e+06]"},
+      {sphere(ok, 0.0), "sphere radius 0.000000 m must be finite and > 0"},
+      {sphere(ok, -0.1), "sphere radius -0.100000 m must be finite and > 0"},
       {sphere(ok, kNaN), "radius nan m"},
       {sphere(stamped("world", kNaN, 0.0, 1.0), 0.1), "center (nan, 0, 1) is not finite"},
       {sphere(stamped("nowhere", 0.0, 0.0, 1.0), 0.1), "center: frame 'nowhere' is unknown"},
@@ -62,17 +62,17 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   };
   SpawnSphere::Request r = sphere(ok, 0.1);
   r.mass = -1.0;
-  cases.emplace_back(r, "mass -1 kg must be in [0, 1e+09] (0 = kinematic)");
+  cases.emplace_back(r, "sphere mass -1.000000 kg must be finite and >= 0 (0 = kinematic)");
   r.mass = 2.0;
   r.restitution = 1.5;
-  cases.emplace_back(r, "restitution 1.5 must be in [0, 1]");
+  cases.emplace_back(r, "sphere restitution 1.500000 must be in [0, 1]");
   r.restitution = 0.0;
   r.mass = 0.0;
   r.velocity.x = kInf;
   cases.emplace_back(r, "velocity (inf, 0, 0) is not finite");
   r.velocity.x = 0.0;
   r.friction = -1.0;
-  cases.emplace_back(r, "friction -1 must be in [0, 100]");
+  cases.emplace_back(r, "sphere friction -1.000000 must be finite and >= 0");
   // Absurd but finite spheres were once answered success and then wrecked the scene.
   r.friction = 0.0;
   cases.emplace_back(sphere(ok, 1e6), "radius 1e+06 m must be at most the cloth's size, 1 m");
@@ -89,7 +89,7 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   }
   // A refused service call is logged too.
   EXPECT_TRUE(probe().waitForLog(
-      std::string(names::kSpawnSphere) + ": radius 0 m must be in (0, 1e+06]", 5.0));
+      std::string(names::kSpawnSphere) + ": sphere radius 0.000000 m must be finite and > 0", 5.0));
 }
 
 TEST(BadInput, RemoveSphereAndRemovePinRefuseUnknownIds) {
