@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
                                        cloth_sim::node::buildScene(scene));
     ros::spin();  // one thread: see ClothSimNode
   } catch (const std::exception& e) {
-    ROS_FATAL("cloth_sim_node: %s", e.what());
+    ROS_FATAL("%s: %s", cloth_sim::node::names::kNode, e.what());
     return 1;
   }
   return 0;

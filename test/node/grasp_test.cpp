@@ -305,7 +305,7 @@ TEST(Grasp, PointCloudOfEveryParticleStampedWithTheSimulatedTime) {
   const Step::Response r = step(3);
   const auto cloud = points.waitFor([&](const sensor_msgs::PointCloud2& c) { return c.header.stamp == r.stamp; });
   ASSERT_TRUE(cloud.has_value()) << "no cloth/points stamped " << r.stamp;
-  EXPECT_EQ(cloud->header.frame_id, "world");
+  EXPECT_EQ(cloud->header.frame_id, names::kDefaultFrame);
   EXPECT_EQ(cloud->width, static_cast<std::uint32_t>(scene().model().particleCount()));
   sensor_msgs::PointCloud2ConstIterator<float> p(*cloud, "x"), n(*cloud, "normal_x");
   for (std::uint32_t i = 0; i < cloud->width; ++i, ++p, ++n) {

@@ -99,7 +99,7 @@ TEST(Integration, MarkersAndStateArriveAtTheirRatesWithTheWholeCloth) {
     ASSERT_TRUE(allFinite(a));
     const visualization_msgs::Marker* cloth = findMarker(a, names::kClothNs, 0);
     ASSERT_NE(cloth, nullptr);
-    EXPECT_EQ(cloth->header.frame_id, "world");
+    EXPECT_EQ(cloth->header.frame_id, names::kDefaultFrame);
     EXPECT_EQ(cloth->type, visualization_msgs::Marker::TRIANGLE_LIST);
     EXPECT_EQ(cloth->colors.size(), cloth->points.size());
     const Points x = clothPositions(a, triangles, n);  // one position per particle
@@ -347,7 +347,7 @@ TEST(Integration, TheDiagnosticsJudgeEachFrameAgainstTheFramesBudget) {
       names::kDiagnostics, 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& a) {
         std::lock_guard<std::mutex> lock(mutex);
         for (const auto& s : a->status)
-          if (s.name.find("simulation step") != std::string::npos) message = s.message;
+          if (s.name.find(names::kDiagnosticsTask) != std::string::npos) message = s.message;
       });
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(5.0);
   while (ros::WallTime::now() < end) {

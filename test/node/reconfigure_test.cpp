@@ -169,7 +169,7 @@ TEST(Reconfigure, AnUnstableSolverIsRolledBackThenResetAndDiagnosed) {
       names::kDiagnostics, 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& a) {
         std::lock_guard<std::mutex> lock(mutex);
         for (const auto& s : a->status) {
-          if (s.name.find("simulation step") != std::string::npos && s.level > worst_level) {
+          if (s.name.find(names::kDiagnosticsTask) != std::string::npos && s.level > worst_level) {
             worst_level = s.level;
             worst_message = s.message;
           }
