@@ -33,28 +33,30 @@ class RealTimeWindow {
 
 /// Everything one report is made of, gathered by the node.
 struct DiagnosticsInput {
-  std::string scene;
-  std::string solver;
-  int substeps = 0;               ///< per frame
-  int iterations = 0;             ///< per substep
-  double frame_budget = 0.0;      ///< s, ~budget_ms (0 = off)
-  StepWindow window;              ///< StepMonitor::takeWindow()
-  double real_time_factor = 0.0;  ///< RealTimeWindow::take()
-  std::uint64_t total_overruns = 0;
-  std::uint64_t total_rollbacks = 0;
-  std::uint32_t consecutive_failures = 0;
-  std::uint32_t divergence_resets = 0;
-  double sim_time = 0.0;  ///< s
-  std::size_t pins = 0, spheres = 0, grasps = 0;
-  bool paused = false;
+  std::string scene;                            ///< the scene's name
+  std::string solver;                           ///< the solver in use
+  int substeps = 0;                             ///< per frame
+  int iterations = 0;                           ///< per substep
+  double frame_budget = 0.0;                    ///< s, ~budget_ms (0 = off)
+  StepWindow window;                            ///< StepMonitor::takeWindow()
+  double real_time_factor = 0.0;                ///< RealTimeWindow::take()
+  std::uint64_t total_overruns = 0;             ///< StepMonitor::totalOverruns()
+  std::uint64_t total_rollbacks = 0;            ///< StepMonitor::totalRollbacks()
+  std::uint32_t consecutive_failures = 0;       ///< StepMonitor::consecutiveFailures()
+  std::uint32_t divergence_resets = 0;          ///< StepMonitor::divergenceResets()
+  double sim_time = 0.0;                        ///< s, the state's simulated time
+  std::size_t pins = 0;                         ///< pins, the grasps' included
+  std::size_t spheres = 0;                      ///< sphere colliders
+  std::size_t grasps = 0;                       ///< grasps
+  bool paused = false;                          ///< the step timer is paused (cloth/pause)
   std::vector<std::string> stale_grasp_frames;  ///< GraspFrames::staleFrames()
 };
 
 /// One diagnostics status: level, message and key-values in display order.
 struct DiagnosticsReport {
-  Health level = Health::kOk;
-  std::string message;
-  std::vector<std::pair<std::string, std::string>> values;
+  Health level = Health::kOk;                               ///< the status level
+  std::string message;                                      ///< the one-line summary
+  std::vector<std::pair<std::string, std::string>> values;  ///< key, value
 };
 
 /// The report of @p in: assess(window) gives the level and message; a stale grasp frame raises

@@ -40,6 +40,8 @@ std::optional<FrameBudget> frameBudgetFor(double budget_ms);
 /// reports to every client; the others still apply.
 class ReconfigureBridge {
  public:
+  /// Changes @p sim, the node's frame budget @p budget (std::nullopt = off) and the cloth's
+  /// @p color_mode; each must outlive the bridge.
   ReconfigureBridge(Simulation& sim, std::optional<FrameBudget>& budget, ColorMode& color_mode);
 
   /// The config in use: the simulation's stiffnesses, damping, solver, iterations, substeps and
