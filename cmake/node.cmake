@@ -1,8 +1,8 @@
 # The ROS shell: node units, cloth_sim_node, pin_teleop and their tests
 # (included from CMakeLists.txt, after catkin_package).
 # ---------------------------------------------------------------------------------------------
-# cloth_sim_ros: the node's units (options, conversions, tf, markers, monitoring, handles,
-# teleop logic); pure ones are unit-tested without a master.
+# cloth_sim_ros: the node's units (names, options, conversions, tf, markers, monitoring,
+# diagnostics, reconfigure, handles, teleop logic); pure ones are unit-tested without a master.
 include_directories(SYSTEM ${catkin_INCLUDE_DIRS})  # node targets only: included last
 
 add_library(cloth_sim_ros
@@ -18,6 +18,8 @@ add_library(cloth_sim_ros
   src/node/grasp_output.cpp
   src/node/point_cloud.cpp
   src/node/render_pacer.cpp
+  src/node/reconfigure_bridge.cpp
+  src/node/diagnostics_report.cpp
 )
 target_include_directories(cloth_sim_ros PUBLIC include)
 target_link_libraries(cloth_sim_ros PUBLIC cloth_sim_core ${catkin_LIBRARIES})
@@ -55,7 +57,8 @@ install(DIRECTORY launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 if(CATKIN_ENABLE_TESTING)
   set(NODE_UNIT_TESTS
     options_test conversions_test frame_resolver_test marker_builder_test step_monitor_test
-    pin_handles_test reconfigure_cfg_test grasp_frames_test grasp_output_test render_pacer_test)
+    pin_handles_test reconfigure_cfg_test grasp_frames_test grasp_output_test render_pacer_test
+    reconfigure_bridge_test diagnostics_report_test)
   foreach(t ${NODE_UNIT_TESTS})
     catkin_add_gtest(node_${t} test/node/${t}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
     target_link_libraries(node_${t} cloth_sim_ros GTest::gtest_main)

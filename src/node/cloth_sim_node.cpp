@@ -13,6 +13,7 @@
 #include "cloth_sim/core/model/strain_field.h"
 #include "cloth_sim/node/conversions.h"
 #include "cloth_sim/node/grasp_output.h"
+#include "cloth_sim/node/names.h"
 #include "cloth_sim/node/point_cloud.h"
 
 namespace cloth_sim::node {
@@ -20,16 +21,19 @@ namespace {
 
 constexpr double kDiagnosticsPoll = 0.25;  ///< s; the updater publishes every ~diagnostic_period
 
-/// The family a reconfigure field sets.
-struct FamilyField {
-  SpringFamily family;
-  double ClothSimConfig::*value;
-};
-constexpr FamilyField kFamilyFields[] = {
-    {SpringFamily::kStructural, &ClothSimConfig::structural_stiffness},
-    {SpringFamily::kShear, &ClothSimConfig::shear_stiffness},
-    {SpringFamily::kBending, &ClothSimConfig::bending_stiffness},
-};
+/// How the markers look: ~strain_color_scale, ~shading, ~color_mode, and pins drawn with the
+/// handles' scale but no wider than the particle spacing, so a pinned edge reads as a row of
+/// beads, not a wall (trampoline, gravity_well).
+MarkerStyle styleFor(const NodeOptions& options, const Simulation& sim, const SceneLimits& limits) {
+  MarkerStyle style;
+  style.strain_color_scale = options.strain_color_scale;
+  style.shading = options.shading;
+  style.color_mode = colorModeFromName(options.color_mode);  // checked by validateNodeOptions
+  const auto& rest = sim.model().springs.rest_length;
+  const double spacing = rest.empty() ? limits.size : *std::min_element(rest.begin(), rest.end());
+  style.pin_diameter = std::min(0.4 * handleSizeFor(limits.size), 0.8 * spacing);
+  return style;
+}
 
 }  // namespace
 
@@ -39,82 +43,98 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       scene_name_(std::move(scene_name)),
       sim_(std::move(sim)),
       monitor_(sim_.frameTime(), options_.max_rollbacks),
+      limits_(SceneLimits::of(sim_, options_.sphere_cull_distance)),
+      budget_(frameBudgetFor(options_.budget_ms)),  // checked by validateNodeOptions
+      style_(styleFor(options_, sim_, limits_)),
+      ground_size_(std::max(3.0, 3.0 * limits_.size)),
+      real_time_(ros::SteadyTime::now().toSec()),
       tf_listener_(tf_buffer_),
       frames_(tf_buffer_, options_.frame_id),
       grasp_frames_(tf_buffer_, options_.frame_id, options_.grasp_frame_timeout),
-      // With ~publish_clock the node owns ROS time: simulated time 0 is ROS time 1 s, because
-      // a ROS time of 0 means "no time yet" to ROS nodes and "the latest" to tf2.
-      clock_(options_.publish_clock ? ros::Time(1, 0) : ros::Time::now()),
+      // With ~publish_clock the node owns ROS time (names::kSimTimeOriginSec says why not 0).
+      clock_(options_.publish_clock ? ros::Time(names::kSimTimeOriginSec, 0) : ros::Time::now()),
       paused_(options_.start_paused),
       nh_(nh),
       pnh_(pnh),
       diagnostics_(nh, pnh) {
-  setFrameBudget(options_.budget_ms);
-  style_.strain_color_scale = options_.strain_color_scale;
-  style_.shading = options_.shading;
-  style_.color_mode = colorModeFromName(options_.color_mode);  // checked by validateNodeOptions
-  const Points& x = sim_.state().positions;
-  cloth_center_ = x.rowwise().mean();
-  limits_ = SceneLimits::of(sim_, options_.sphere_cull_distance);
-  // Pins drawn with the handles' scale, but no wider than the particle spacing, so a pinned
-  // edge reads as a row of beads, not a wall (trampoline, gravity_well).
-  const auto& rest = sim_.model().springs.rest_length;
-  const double spacing = rest.empty() ? limits_.size : *std::min_element(rest.begin(), rest.end());
-  style_.pin_diameter = std::min(0.4 * handleSizeFor(limits_.size), 0.8 * spacing);
-  const double extent = (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).maxCoeff();
-  ground_size_ = std::max(3.0, 3.0 * extent);
+  advertiseTopics();
+  advertiseServices();
+  // Each substep asks where the grasp frames are at its own simulated time.
+  sim_.setGraspPoseSource(
+      [this](int id, double t) { return grasp_frames_.poseAt(id, clock_.stamp(t)); });
+  publishClock();
+  startDiagnostics();
+  startReconfigure();
+  startPinHandles();
+  startTimers();
+  ROS_INFO(
+      "%s: scene '%s' (%d particles, %zu springs, %zu pins), solver %s with %d substeps of "
+      "%d iterations, frame %.4f s, markers at %.1f Hz in frame '%s'",
+      names::kNode, scene_name_.c_str(), sim_.model().particleCount(), sim_.model().springs.size(),
+      sim_.pins().size(), sim_.solver().name(), sim_.solverSettings().substeps,
+      sim_.solverSettings().max_iterations, sim_.frameTime(), options_.render_rate,
+      options_.frame_id.c_str());
+}
 
-  markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("cloth/markers", 2);
-  state_pub_ = nh_.advertise<ClothState>("cloth/state", 10);
-  points_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("cloth/points", 2);
+void ClothSimNode::advertiseTopics() {
+  markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>(names::kMarkers, 2);
+  state_pub_ = nh_.advertise<ClothState>(names::kState, 10);
+  points_pub_ = nh_.advertise<sensor_msgs::PointCloud2>(names::kPoints, 2);
   if (options_.publish_clock) {
-    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10, /*latch=*/true);
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>(names::kClock, 10, /*latch=*/true);
     if (!ros::Time::isSimTime()) {
       ROS_WARN("~publish_clock is true but /use_sim_time is not: this node and the others keep "
                "the wall time (set /use_sim_time true before the nodes start)");
     }
   }
-  pin_move_sub_ = nh_.subscribe("cloth/pin_move", 20, &ClothSimNode::onPinMove, this);
+  pin_move_sub_ = nh_.subscribe(names::kPinMove, 20, &ClothSimNode::onPinMove, this);
+}
+
+void ClothSimNode::advertiseServices() {
   services_ = {
-      nh_.advertiseService("cloth/spawn_sphere", &ClothSimNode::onSpawnSphere, this),
-      nh_.advertiseService("cloth/remove_sphere", &ClothSimNode::onRemoveSphere, this),
-      nh_.advertiseService("cloth/add_pin", &ClothSimNode::onAddPin, this),
-      nh_.advertiseService("cloth/remove_pin", &ClothSimNode::onRemovePin, this),
-      nh_.advertiseService("cloth/reset", &ClothSimNode::onReset, this),
-      nh_.advertiseService("cloth/grasp", &ClothSimNode::onGrasp, this),
-      nh_.advertiseService("cloth/release", &ClothSimNode::onRelease, this),
-      nh_.advertiseService("cloth/pause", &ClothSimNode::onPause, this),
-      nh_.advertiseService("cloth/unpause", &ClothSimNode::onUnpause, this),
-      nh_.advertiseService("cloth/step", &ClothSimNode::onStep, this),
+      nh_.advertiseService(names::kSpawnSphere, &ClothSimNode::onSpawnSphere, this),
+      nh_.advertiseService(names::kRemoveSphere, &ClothSimNode::onRemoveSphere, this),
+      nh_.advertiseService(names::kAddPin, &ClothSimNode::onAddPin, this),
+      nh_.advertiseService(names::kRemovePin, &ClothSimNode::onRemovePin, this),
+      nh_.advertiseService(names::kReset, &ClothSimNode::onReset, this),
+      nh_.advertiseService(names::kGrasp, &ClothSimNode::onGrasp, this),
+      nh_.advertiseService(names::kRelease, &ClothSimNode::onRelease, this),
+      nh_.advertiseService(names::kPause, &ClothSimNode::onPause, this),
+      nh_.advertiseService(names::kUnpause, &ClothSimNode::onUnpause, this),
+      nh_.advertiseService(names::kStep, &ClothSimNode::onStep, this),
   };
-  // Each substep asks where the grasp frames are at its own simulated time.
-  sim_.setGraspPoseSource(
-      [this](int id, double t) { return grasp_frames_.poseAt(id, clock_.stamp(t)); });
-  publishClock();
+}
 
-  diagnostics_.setHardwareID("cloth_sim:" + scene_name_);
-  diagnostics_.add("simulation step", this, &ClothSimNode::diagnose);
+void ClothSimNode::startDiagnostics() {
+  diagnostics_.setHardwareID(names::kHardwareIdPrefix + scene_name_);
+  diagnostics_.add(names::kDiagnosticsTask, this, &ClothSimNode::diagnose);
+}
 
+void ClothSimNode::startReconfigure() {
   // The scene (with ~solver / ~iterations) gives the initial values; the server then reports
   // them and calls back on every change.
   reconfigure_ =
       std::make_unique<dynamic_reconfigure::Server<ClothSimConfig>>(reconfigure_mutex_, pnh_);
-  reconfigure_->updateConfig(currentConfig());
+  reconfigure_->updateConfig(bridge_.current());
   reconfigure_->setCallback(
       [this](ClothSimConfig& config, std::uint32_t level) { onReconfigure(config, level); });
+}
 
-  if (options_.max_interactive_pins > 0) {
-    pin_handles_ = std::make_unique<PinHandles>(
-        "cloth/pin_handles", options_.frame_id, options_.max_interactive_pins,
-        [this](int id, const geometry_msgs::PointStamped& target) { movePin("cloth/pin_handles", id, target); },
-        handleSizeFor(limits_.size));
-    pin_handles_->sync(sim_.pins().pins());
-  }
+void ClothSimNode::startPinHandles() {
+  if (options_.max_interactive_pins <= 0) return;
+  pin_handles_ = std::make_unique<PinHandles>(
+      names::kPinHandles, options_.frame_id, options_.max_interactive_pins,
+      [this](int id, const geometry_msgs::PointStamped& target) {
+        movePin(names::kPinHandles, id, target);
+      },
+      handleSizeFor(limits_.size));
+  pin_handles_->sync(sim_.pins().pins());
+}
 
-  window_start_ = ros::SteadyTime::now();
-  const double h = sim_.frameTime();
+void ClothSimNode::startTimers() {
   // A frame per tick; at ~real_time_factor 0 the ticks come back to back (other callbacks still
   // run between them: one spinner thread, one queue).
+  const double h = sim_.frameTime();
   const double period = options_.real_time_factor > 0.0 ? h / options_.real_time_factor : 1e-5;
   step_timer_ = nh_.createSteadyTimer(ros::WallDuration(period), &ClothSimNode::step, this);
   render_timer_ = nh_.createSteadyTimer(ros::WallDuration(1.0 / options_.render_rate),
@@ -126,12 +146,6 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
     summary_timer_ = nh_.createSteadyTimer(ros::WallDuration(options_.summary_period),
                                            &ClothSimNode::logSummary, this);
   }
-  ROS_INFO("cloth_sim_node: scene '%s' (%d particles, %zu springs, %zu pins), solver %s with "
-           "%d substeps of %d iterations, frame %.4f s, markers at %.1f Hz in frame '%s'",
-           scene_name_.c_str(), sim_.model().particleCount(), sim_.model().springs.size(),
-           sim_.pins().size(), sim_.solver().name(), sim_.solverSettings().substeps,
-           sim_.solverSettings().max_iterations, h,
-           options_.render_rate, options_.frame_id.c_str());
 }
 
 void ClothSimNode::step(const ros::SteadyTimerEvent&) {
@@ -143,8 +157,11 @@ void ClothSimNode::stepFrame() {
   last_report_ = sim_.step();
   ++steps_since_reset_;
   const bool rolled_back = last_report_.status != StepStatus::kOk;
-  if (rolled_back) warnThrottled("rolled back", "step: " + last_report_.message);
-  else window_sim_time_ += sim_.frameTime();
+  if (rolled_back) {
+    warnThrottled("rolled back", "step: " + last_report_.message);
+  } else {
+    real_time_.add(sim_.frameTime());
+  }
   const bool must_reset = monitor_.record(rolled_back, last_report_.wall_time);
 
   std_msgs::Header header;
@@ -172,11 +189,6 @@ void ClothSimNode::stepFrame() {
   cullSpheres();
 }
 
-void ClothSimNode::setFrameBudget(double budget_ms) {
-  if (budget_ms > 0.0) budget_.emplace(1e-3 * budget_ms, 1, settings::kSubsteps.range.max);
-  else budget_.reset();
-}
-
 void ClothSimNode::adaptSubsteps() {
   if (!budget_) return;
   SolverSettings settings = sim_.solverSettings();
@@ -186,7 +198,7 @@ void ClothSimNode::adaptSubsteps() {
   sim_.setSolverSettings(settings);  // a valid count (FrameBudget keeps to kSubsteps' range)
   ROS_INFO_THROTTLE(1.0, "~budget_ms %.2f: %d substeps per frame (one substep %.3f ms)",
                     1e3 * budget_->budget(), chosen, 1e3 * budget_->substepCost());
-  if (reconfigure_) reconfigure_->updateConfig(currentConfig());
+  if (reconfigure_) reconfigure_->updateConfig(bridge_.current());
 }
 
 void ClothSimNode::render(const ros::SteadyTimerEvent&) {
@@ -211,7 +223,7 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
                           sim_.pins().pins(),
                           sim_.colliders().spheres(),
                           sim_.colliders().ground(),
-                          cloth_center_,
+                          limits_.center,
                           ground_size_,
                           with_obstacles ? &sim_.colliders().meshes() : nullptr};
   std_msgs::Header header;
@@ -219,8 +231,8 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
   header.frame_id = options_.frame_id;
   MarkerBuild build = buildMarkers(scene, style_, header, shown_);
   if (build.sanitized > 0) {
-    refuse("cloth/markers", std::to_string(build.sanitized) +
-                                " non-finite numbers in the state were drawn as 0");
+    refuse(names::kMarkers,
+           std::to_string(build.sanitized) + " non-finite numbers in the state were drawn as 0");
   }
   shown_ = std::move(build.shown);
   appendGraspMarkers(sim_.grasps(), grasp_frames_, options_.force_arrow_scale, header,
@@ -260,12 +272,12 @@ void ClothSimNode::resetSimulation(const std::string& why, bool automatic) {
 void ClothSimNode::cullSpheres() {
   std::vector<int> gone;
   for (const SphereCollider& s : sim_.colliders().spheres()) {
-    if ((s.center - cloth_center_).norm() > options_.sphere_cull_distance) gone.push_back(s.id);
+    if ((s.center - limits_.center).norm() > limits_.reach) gone.push_back(s.id);
   }
   for (int id : gone) {
     sim_.removeSphere(id);
     ROS_INFO("sphere %d removed: farther than ~sphere_cull_distance = %g m from the cloth", id,
-             options_.sphere_cull_distance);
+             limits_.reach);
   }
 }
 
@@ -279,43 +291,27 @@ void ClothSimNode::warnThrottled(const std::string& key, const std::string& text
 }
 
 void ClothSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
-  const ros::SteadyTime now = ros::SteadyTime::now();
-  const double wall = (now - window_start_).toSec();
-  const double real_time_factor = wall > 0.0 ? window_sim_time_ / wall : 0.0;
-  window_start_ = now;
-  window_sim_time_ = 0.0;
-  const StepWindow w = monitor_.takeWindow();
-  const HealthReport health = assess(w);
-  status.summary(static_cast<std::uint8_t>(health.level), health.message);
-  status.add("scene", scene_name_);
-  status.add("solver", sim_.solver().name());
-  status.add("substeps per frame", sim_.solverSettings().substeps);
-  status.addf("frame budget (ms)", "%.3f", budget_ ? 1e3 * budget_->budget() : 0.0);
-  status.add("iterations per substep", sim_.solverSettings().max_iterations);
-  status.addf("step budget (ms)", "%.3f", 1e3 * w.budget);
-  status.addf("mean step time (ms)", "%.3f", 1e3 * w.mean_time);
-  status.addf("max step time (ms)", "%.3f", 1e3 * w.max_time);
-  status.add("steps", w.steps);
-  status.add("overruns", w.overruns);
-  status.add("rolled-back steps", w.rollbacks);
-  status.addf("real-time factor", "%.3f", real_time_factor);
-  status.add("total overruns", monitor_.totalOverruns());
-  status.add("total rolled-back steps", monitor_.totalRollbacks());
-  status.add("consecutive rolled-back steps", monitor_.consecutiveFailures());
-  status.add("divergence resets", monitor_.divergenceResets());
-  status.addf("sim time (s)", "%.3f", sim_.state().time);
-  status.add("pins", sim_.pins().size());
-  status.add("spheres", sim_.colliders().spheres().size());
-  status.add("grasps", sim_.grasps().size());
-  status.add("paused", paused_ ? "yes" : "no");
-  const std::vector<std::string> stale = grasp_frames_.staleFrames();
-  if (!stale.empty()) {
-    std::string frames;
-    for (const std::string& f : stale) frames += (frames.empty() ? "" : ", ") + f;
-    status.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN,
-                        "grasp frame stopped updating, held at its last pose: " + frames);
-    status.add("stale grasp frames", frames);
-  }
+  DiagnosticsInput in;
+  in.scene = scene_name_;
+  in.solver = sim_.solver().name();
+  in.substeps = sim_.solverSettings().substeps;
+  in.iterations = sim_.solverSettings().max_iterations;
+  in.frame_budget = budget_ ? budget_->budget() : 0.0;
+  in.window = monitor_.takeWindow();
+  in.real_time_factor = real_time_.take(ros::SteadyTime::now().toSec());
+  in.total_overruns = monitor_.totalOverruns();
+  in.total_rollbacks = monitor_.totalRollbacks();
+  in.consecutive_failures = monitor_.consecutiveFailures();
+  in.divergence_resets = monitor_.divergenceResets();
+  in.sim_time = sim_.state().time;
+  in.pins = sim_.pins().size();
+  in.spheres = sim_.colliders().spheres().size();
+  in.grasps = sim_.grasps().size();
+  in.paused = paused_;
+  in.stale_grasp_frames = grasp_frames_.staleFrames();
+  const DiagnosticsReport report = diagnosticsReport(in);
+  status.summary(static_cast<std::uint8_t>(report.level), report.message);
+  for (const auto& [key, value] : report.values) status.add(key, value);
 }
 
 void ClothSimNode::logSummary(const ros::SteadyTimerEvent&) {
@@ -327,72 +323,16 @@ void ClothSimNode::logSummary(const ros::SteadyTimerEvent&) {
            sim_.pins().size(), sim_.colliders().spheres().size(), stepStatusName(r.status));
 }
 
-ClothSimConfig ClothSimNode::currentConfig() const {
-  ClothSimConfig c;
-  for (const FamilyField& f : kFamilyFields) c.*f.value = sim_.model().familyStiffness(f.family);
-  c.damping = sim_.model().damping;
-  c.solver = sim_.solver().name();
-  c.iterations = sim_.solverSettings().max_iterations;
-  c.substeps = sim_.solverSettings().substeps;
-  c.budget_ms = budget_ ? 1e3 * budget_->budget() : 0.0;
-  c.self_collision = sim_.selfContact() != nullptr;
-  c.color_mode = style_.color_mode == ColorMode::kShaded ? "shaded" : "strain";
-  return c;
-}
-
 void ClothSimNode::onReconfigure(ClothSimConfig& config, std::uint32_t /*level*/) {
-  // Each field is applied on its own; a refused one is put back to the value in use, which the
-  // server then reports to every client.
-  const ClothSimConfig current = currentConfig();
-  auto apply = [&](const char* name, bool changed, const std::function<void()>& set,
-                   const std::function<void()>& revert) {
-    if (!changed) return;
-    try {
-      set();
-      ROS_INFO("reconfigure: %s changed", name);
-    } catch (const std::exception& e) {
-      refuse(std::string("reconfigure ") + name, e.what());
-      revert();
+  // A refused field is put back to the value in use, which the server then reports to every
+  // client.
+  for (const FieldOutcome& f : bridge_.apply(config)) {
+    if (f.applied) {
+      ROS_INFO("%s: %s changed", names::kReconfigure, f.field.c_str());
+    } else {
+      refuse(std::string(names::kReconfigure) + " " + f.field, f.why);
     }
-  };
-  for (const FamilyField& f : kFamilyFields) {
-    const std::string name = std::string(springFamilyName(f.family)) + "_stiffness";
-    apply(name.c_str(), config.*f.value != current.*f.value,
-          [&] { sim_.setFamilyStiffness(f.family, config.*f.value); },
-          [&] { config.*f.value = current.*f.value; });
   }
-  apply("damping", config.damping != current.damping, [&] { sim_.setDamping(config.damping); },
-        [&] { config.damping = current.damping; });
-  apply("solver", config.solver != current.solver, [&] { sim_.setSolver(config.solver); },
-        [&] { config.solver = current.solver; });
-  auto applySolverSetting = [&](const char* name, int ClothSimConfig::*field,
-                                int SolverSettings::*setting) {
-    apply(name, config.*field != current.*field,
-          [&] {
-            SolverSettings settings = sim_.solverSettings();
-            settings.*setting = config.*field;
-            sim_.setSolverSettings(settings);
-          },
-          [&] { config.*field = current.*field; });
-  };
-  apply("color_mode", config.color_mode != current.color_mode,
-        [&] { style_.color_mode = colorModeFromName(config.color_mode); },
-        [&] { config.color_mode = current.color_mode; });
-  applySolverSetting("iterations", &ClothSimConfig::iterations, &SolverSettings::max_iterations);
-  applySolverSetting("substeps", &ClothSimConfig::substeps, &SolverSettings::substeps);
-  apply("budget_ms", config.budget_ms != current.budget_ms,
-        [&] {
-          settings::kFrameBudget.require(config.budget_ms);
-          setFrameBudget(config.budget_ms);
-        },
-        [&] { config.budget_ms = current.budget_ms; });
-  apply("self_collision", config.self_collision != current.self_collision,
-        [&] {
-          SelfContactSettings self = sim_.options().self_contact;
-          self.enabled = config.self_collision;
-          sim_.setSelfContact(self);
-        },
-        [&] { config.self_collision = current.self_collision; });
 }
 
 }  // namespace cloth_sim::node

@@ -3,10 +3,11 @@
 #include <ros/ros.h>
 
 #include "cloth_sim/node/cloth_sim_node.h"
+#include "cloth_sim/node/names.h"
 #include "cloth_sim/node/options.h"
 
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "cloth_sim_node");
+  ros::init(argc, argv, cloth_sim::node::names::kNode);
   ros::NodeHandle nh, pnh("~");
   try {
     XmlRpc::XmlRpcValue params;  // stays invalid (= no parameter) if the namespace is empty
@@ -18,7 +19,7 @@ int main(int argc, char** argv) {
                                        cloth_sim::node::buildScene(scene));
     ros::spin();  // one thread: see ClothSimNode
   } catch (const std::exception& e) {
-    ROS_FATAL("cloth_sim_node: %s", e.what());
+    ROS_FATAL("%s: %s", cloth_sim::node::names::kNode, e.what());
     return 1;
   }
   return 0;

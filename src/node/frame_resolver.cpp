@@ -6,6 +6,7 @@
 #include <tf2_eigen/tf2_eigen.h>
 
 #include "cloth_sim/node/conversions.h"
+#include "cloth_sim/node/names.h"
 
 namespace cloth_sim::node {
 
@@ -34,8 +35,7 @@ Vec3 FrameResolver::vector(const std_msgs::Header& header, const geometry_msgs::
 
 Eigen::Isometry3d FrameResolver::lookup(const std_msgs::Header& header,
                                         const std::string& what) const {
-  std::string frame = header.frame_id;
-  if (!frame.empty() && frame.front() == '/') frame.erase(0, 1);
+  const std::string frame = names::tf2Frame(header.frame_id);
   if (frame.empty() || frame == target_frame_) return Eigen::Isometry3d::Identity();
   const std::string prefix = what + ": frame " + quotedName(frame);
   if (!buffer_._frameExists(frame)) {

@@ -30,7 +30,7 @@ visualization_msgs::Marker graspArrow(const Grasp& grasp, bool stale, double sca
                                       const std_msgs::Header& header) {
   visualization_msgs::Marker m;
   m.header = header;
-  m.ns = kGraspsNs;
+  m.ns = names::kGraspsNs;
   m.id = grasp.id;
   m.type = visualization_msgs::Marker::ARROW;
   m.action = visualization_msgs::Marker::ADD;
@@ -62,7 +62,7 @@ void appendGraspMarkers(const std::vector<Grasp>& grasps, const GraspFrames& fra
     if (now.count(id)) continue;
     visualization_msgs::Marker m;
     m.header = header;
-    m.ns = kGraspsNs;
+    m.ns = names::kGraspsNs;
     m.id = id;
     m.action = visualization_msgs::Marker::DELETE;
     out.markers.push_back(m);

@@ -100,7 +100,7 @@ void checkSizes(const MarkerScene& scene) {
 
 Marker makeCloth(const MarkerScene& scene, const MarkerStyle& style,
                  const std_msgs::Header& header, Sanitizer& sanitize) {
-  Marker m = makeMarker(header, kClothNs, 0, Marker::TRIANGLE_LIST);
+  Marker m = makeMarker(header, names::kClothNs, 0, Marker::TRIANGLE_LIST);
   const Points normals =
       style.shading ? vertexNormals(scene.positions, scene.triangles) : Points();
   // One colour per particle, shared by the triangle corners that meet there.
@@ -134,7 +134,7 @@ Marker makeCloth(const MarkerScene& scene, const MarkerStyle& style,
 
 Marker makeObstacle(const MeshObstacle& obstacle, int id, const std_msgs::Header& header,
                     Sanitizer& sanitize) {
-  Marker m = makeMarker(header, kObstaclesNs, id, Marker::TRIANGLE_LIST);
+  Marker m = makeMarker(header, names::kObstaclesNs, id, Marker::TRIANGLE_LIST);
   const TriangleMesh& mesh = obstacle.mesh();
   m.points.reserve(3 * mesh.triangleCount());
   m.colors.reserve(3 * mesh.triangleCount());
@@ -155,10 +155,15 @@ Marker makeObstacle(const MeshObstacle& obstacle, int id, const std_msgs::Header
 }  // namespace
 
 ColorMode colorModeFromName(const std::string& name) {
-  if (name == "strain") return ColorMode::kStrain;
-  if (name == "shaded") return ColorMode::kShaded;
+  for (ColorMode mode : {ColorMode::kStrain, ColorMode::kShaded}) {
+    if (name == colorModeName(mode)) return mode;
+  }
   throw std::invalid_argument("color mode '" + name.substr(0, 64) +
                               "' must be 'strain' or 'shaded'");
+}
+
+const char* colorModeName(ColorMode mode) {
+  return mode == ColorMode::kShaded ? "shaded" : "strain";
 }
 
 std_msgs::ColorRGBA strainColor(double strain, double scale) {
@@ -185,18 +190,18 @@ MarkerBuild buildMarkers(const MarkerScene& scene, const MarkerStyle& style,
 
   for (const Pin& pin : scene.pins) {
     const auto color = pin.isHard() ? rgba(1.0, 0.55, 0.0, 1.0) : rgba(0.95, 0.85, 0.1, 1.0);
-    out.push_back(
-        makeSphere(header, kPinsNs, pin.id, pin.target, style.pin_diameter, color, sanitize));
+    out.push_back(makeSphere(header, names::kPinsNs, pin.id, pin.target, style.pin_diameter, color,
+                             sanitize));
     build.shown.pins.insert(pin.id);
   }
   for (const SphereCollider& s : scene.spheres) {
-    out.push_back(makeSphere(header, kSpheresNs, s.id, s.center, 2.0 * s.radius,
+    out.push_back(makeSphere(header, names::kSpheresNs, s.id, s.center, 2.0 * s.radius,
                              rgba(0.25, 0.55, 0.35, 0.9), sanitize));
     build.shown.spheres.insert(s.id);
   }
   if (scene.ground.enabled) {
     constexpr double kThickness = 0.01;  // m; its top face just below the ground plane
-    Marker g = makeMarker(header, kGroundNs, 0, Marker::CUBE);
+    Marker g = makeMarker(header, names::kGroundNs, 0, Marker::CUBE);
     g.pose.position =
         sanitize.point(Vec3(scene.ground_center.x(), scene.ground_center.y(),
                             scene.ground.height - kGroundDrawGap - 0.5 * kThickness));
@@ -214,12 +219,12 @@ MarkerBuild buildMarkers(const MarkerScene& scene, const MarkerStyle& style,
   }
 
   for (int id : before.pins) {
-    if (!build.shown.pins.count(id)) out.push_back(makeDelete(header, kPinsNs, id));
+    if (!build.shown.pins.count(id)) out.push_back(makeDelete(header, names::kPinsNs, id));
   }
   for (int id : before.spheres) {
-    if (!build.shown.spheres.count(id)) out.push_back(makeDelete(header, kSpheresNs, id));
+    if (!build.shown.spheres.count(id)) out.push_back(makeDelete(header, names::kSpheresNs, id));
   }
-  if (before.ground && !build.shown.ground) out.push_back(makeDelete(header, kGroundNs, 0));
+  if (before.ground && !build.shown.ground) out.push_back(makeDelete(header, names::kGroundNs, 0));
   build.sanitized = sanitize.count();
   return build;
 }

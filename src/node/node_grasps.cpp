@@ -9,6 +9,7 @@
 #include "cloth_sim/node/cloth_sim_node.h"
 #include "cloth_sim/node/conversions.h"
 #include "cloth_sim/node/grasp_output.h"
+#include "cloth_sim/node/names.h"
 
 namespace cloth_sim::node {
 
@@ -42,18 +43,17 @@ std::vector<int> ClothSimNode::selectParticles(const AddGrasp::Request& req,
 
 bool ClothSimNode::onGrasp(AddGrasp::Request& req, AddGrasp::Response& res) {
   res.id = -1;
-  return answer("cloth/grasp", res, [&] {
+  return answer(names::kGrasp, res, [&] {
     const Vec3 offset = toVec3(req.offset);
     requireFinite(offset, "offset");
     if (!std::isfinite(req.radius)) throw std::invalid_argument("radius is not finite");
-    std::string frame = req.frame_id;
-    if (!frame.empty() && frame.front() == '/') frame.erase(0, 1);
+    const std::string frame = names::tf2Frame(req.frame_id);
     const Pose pose = grasp_frames_.lookup(frame, offset, simStamp());
     const std::vector<int> vertices = selectParticles(req, pose.translation());
     res.id = sim_.addGrasp(vertices, pose);
     grasp_frames_.add(res.id, frame, offset, pose);
-    wrench_pubs_[res.id] = nh_.advertise<geometry_msgs::WrenchStamped>(
-        "cloth/grasps/" + std::to_string(res.id) + "/wrench", 10);
+    wrench_pubs_[res.id] =
+        nh_.advertise<geometry_msgs::WrenchStamped>(names::graspWrench(res.id), 10);
     res.vertices = vertices;
     // Its loads do not follow the midpoint step (docs/method.md, "Grasps and pin forces").
     const bool midpoint = sim_.solverSettings().integrator == Integrator::kImplicitMidpoint;
@@ -66,7 +66,7 @@ bool ClothSimNode::onGrasp(AddGrasp::Request& req, AddGrasp::Response& res) {
 }
 
 bool ClothSimNode::onRelease(ReleaseGrasp::Request& req, ReleaseGrasp::Response& res) {
-  return answer("cloth/release", res, [&] {
+  return answer(names::kRelease, res, [&] {
     sim_.removeGrasp(req.id);  // throws "no grasp with id ..." first
     grasp_frames_.remove(req.id);
     wrench_pubs_.erase(req.id);  // the topic goes away: its wrench stops

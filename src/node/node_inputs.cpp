@@ -1,10 +1,13 @@
 // The inputs of cloth_sim_node: the pin_move topic, the services and the drag handles. Each
-// checks what it is given, refuses what it cannot use with a message saying why, and leaves
-// the simulation untouched when it refuses (the core edits validate before they change).
+// brings its points into ~frame_id (FrameResolver refuses a non-finite one or an unknown frame)
+// and hands the values to the core, whose checks (the edits of Simulation, SceneLimits) refuse
+// what it cannot use with a message saying why; the node adds no rule of its own, and a refusal
+// leaves the simulation untouched (the core edits validate before they change).
 #include <sstream>
 
 #include "cloth_sim/node/cloth_sim_node.h"
 #include "cloth_sim/node/conversions.h"
+#include "cloth_sim/node/names.h"
 
 namespace cloth_sim::node {
 namespace {
@@ -29,15 +32,15 @@ void ClothSimNode::movePin(const char* source, int pin_id,
 }
 
 void ClothSimNode::onPinMove(const PinMove::ConstPtr& msg) {
-  movePin("cloth/pin_move", msg->id, msg->target);
+  movePin(names::kPinMove, msg->id, msg->target);
 }
 
 bool ClothSimNode::onSpawnSphere(SpawnSphere::Request& req, SpawnSphere::Response& res) {
   res.id = -1;
-  return answer("cloth/spawn_sphere", res, [&] {
+  return answer(names::kSpawnSphere, res, [&] {
     const Vec3 center = frames_.point(req.center, "center");
     const Vec3 velocity = frames_.vector(req.center.header, req.velocity, "velocity");
-    const SphereCollider sphere = sphereFromRequest(req, center, velocity);
+    const SphereCollider sphere = sphereFromRequest(req, center, velocity);  // a valid sphere
     limits_.checkSphere("", sphere, sim_.substepTime());  // what the cloth can follow
     res.id = sim_.addSphere(sphere);
     return "sphere " + std::to_string(res.id) + " at " + str(center) + " m, radius " +
@@ -47,7 +50,7 @@ bool ClothSimNode::onSpawnSphere(SpawnSphere::Request& req, SpawnSphere::Respons
 }
 
 bool ClothSimNode::onRemoveSphere(RemoveSphere::Request& req, RemoveSphere::Response& res) {
-  return answer("cloth/remove_sphere", res, [&] {
+  return answer(names::kRemoveSphere, res, [&] {
     sim_.removeSphere(req.id);
     return "sphere " + std::to_string(req.id) + " removed";
   });
@@ -56,15 +59,10 @@ bool ClothSimNode::onRemoveSphere(RemoveSphere::Request& req, RemoveSphere::Resp
 bool ClothSimNode::onAddPin(AddPin::Request& req, AddPin::Response& res) {
   res.id = -1;
   res.vertex = -1;
-  return answer("cloth/add_pin", res, [&] {
-    const int n = sim_.model().particleCount();
-    int vertex = req.vertex;
-    if (vertex == -1) {
-      vertex = sim_.nearestParticle(frames_.point(req.point, "point"));
-    } else if (vertex < 0 || vertex >= n) {
-      throw std::invalid_argument("vertex " + std::to_string(vertex) + " is out of range [0, " +
-                                  std::to_string(n) + ") (-1 = the one nearest to 'point')");
-    }
+  return answer(names::kAddPin, res, [&] {
+    // -1 = the particle nearest to 'point'; any other vertex is the core's to check.
+    const int vertex =
+        req.vertex == -1 ? sim_.nearestParticle(frames_.point(req.point, "point")) : req.vertex;
     res.id = sim_.addPinHere(vertex, req.stiffness);
     res.vertex = vertex;
     return "pin " + std::to_string(res.id) + " holds vertex " + std::to_string(vertex) +
@@ -74,14 +72,14 @@ bool ClothSimNode::onAddPin(AddPin::Request& req, AddPin::Response& res) {
 }
 
 bool ClothSimNode::onRemovePin(RemovePin::Request& req, RemovePin::Response& res) {
-  return answer("cloth/remove_pin", res, [&] {
+  return answer(names::kRemovePin, res, [&] {
     sim_.removePin(req.id);
     return "pin " + std::to_string(req.id) + " removed";
   });
 }
 
 bool ClothSimNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
-  return answer("cloth/reset", res, [&] {
+  return answer(names::kReset, res, [&] {
     resetSimulation("requested on cloth/reset", /*automatic=*/false);
     return "simulation reset to the initial state of scene '" + scene_name_ + "' (pins, spheres)";
   });

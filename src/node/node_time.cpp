@@ -4,6 +4,7 @@
 #include <rosgraph_msgs/Clock.h>
 
 #include "cloth_sim/node/cloth_sim_node.h"
+#include "cloth_sim/node/names.h"
 
 namespace cloth_sim::node {
 namespace {
@@ -22,7 +23,7 @@ void ClothSimNode::publishClock() {
 }
 
 bool ClothSimNode::onPause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
-  return answer("cloth/pause", res, [&] {
+  return answer(names::kPause, res, [&] {
     const bool was = paused_;
     paused_ = true;
     return std::string(was ? "already paused" : "paused") + " at t = " +
@@ -31,7 +32,7 @@ bool ClothSimNode::onPause(std_srvs::Trigger::Request&, std_srvs::Trigger::Respo
 }
 
 bool ClothSimNode::onUnpause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
-  return answer("cloth/unpause", res, [&] {
+  return answer(names::kUnpause, res, [&] {
     const bool was = paused_;
     paused_ = false;
     return std::string(was ? "running" : "already running") + " from t = " +
@@ -40,7 +41,7 @@ bool ClothSimNode::onUnpause(std_srvs::Trigger::Request&, std_srvs::Trigger::Res
 }
 
 bool ClothSimNode::onStep(Step::Request& req, Step::Response& res) {
-  answer("cloth/step", res, [&] {
+  answer(names::kStep, res, [&] {
     if (req.frames > kMaxFramesPerCall) {
       throw std::invalid_argument("frames " + std::to_string(req.frames) + " must be <= " +
                                   std::to_string(kMaxFramesPerCall) + " per call");

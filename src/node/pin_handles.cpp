@@ -4,10 +4,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <string>
 
 #include <Eigen/Geometry>
 #include <interactive_markers/tools.h>
 #include <ros/console.h>
+
+#include "cloth_sim/node/names.h"
 
 namespace cloth_sim::node {
 namespace {
@@ -46,12 +49,13 @@ geometry_msgs::Pose poseAt(const Vec3& p) {
 
 }  // namespace
 
-std::string pinHandleName(int pin_id) { return "pin_" + std::to_string(pin_id); }
+std::string pinHandleName(int pin_id) { return names::kPinHandlePrefix + std::to_string(pin_id); }
 
 int pinIdFromHandleName(const std::string& name) {
-  if (name.rfind("pin_", 0) != 0 || name.size() == 4) return -1;
+  const std::size_t prefix = std::char_traits<char>::length(names::kPinHandlePrefix);
+  if (name.rfind(names::kPinHandlePrefix, 0) != 0 || name.size() == prefix) return -1;
   char* end = nullptr;
-  const long id = std::strtol(name.c_str() + 4, &end, 10);
+  const long id = std::strtol(name.c_str() + prefix, &end, 10);
   if (*end != '\0' || id < 0 || id > std::numeric_limits<int>::max()) return -1;
   return static_cast<int>(id);
 }

@@ -78,7 +78,7 @@ std::string show(double v) {
 class Watch {
  public:
   explicit Watch(ros::NodeHandle nh) {
-    sub_ = nh.subscribe<ClothState>("cloth/state", 100, [this](const ClothState::ConstPtr& s) {
+    sub_ = nh.subscribe<ClothState>(names::kState, 100, [this](const ClothState::ConstPtr& s) {
       std::lock_guard<std::mutex> lock(mutex_);
       ++states_;
       bool finite = std::isfinite(s->energy) && std::isfinite(s->max_strain);
@@ -134,7 +134,7 @@ TEST(BadInputRandom, EveryInputRefusedByNameOrSimulatedWithoutRollback) {
   NodeProbe& p = probe();
   ros::NodeHandle nh;
   Watch watch(nh);
-  ros::Publisher pin_pub = nh.advertise<PinMove>("cloth/pin_move", 100);
+  ros::Publisher pin_pub = nh.advertise<PinMove>(names::kPinMove, 100);
   ASSERT_TRUE(waitForSubscriber(pin_pub));
   ClothState start = p.latestState();
   ASSERT_EQ(start.status, "ok");
@@ -145,8 +145,10 @@ TEST(BadInputRandom, EveryInputRefusedByNameOrSimulatedWithoutRollback) {
   std::set<int> spheres, pins;  // what the test added and has not removed
   for (const PinInfo& pin : start.pins) pins.insert(pin.id);
   // The configuration in use (an empty request changes nothing and reports it).
-  const dynamic_reconfigure::Config initial = call<dynamic_reconfigure::Reconfigure>(
-      "cloth_sim_node/set_parameters", dynamic_reconfigure::Reconfigure::Request()).config;
+  const dynamic_reconfigure::Config initial =
+      call<dynamic_reconfigure::Reconfigure>(names::setParameters(),
+                                             dynamic_reconfigure::Reconfigure::Request())
+          .config;
   std::map<std::string, Tally> tally;
   for (int k = 0; k < kCases; ++k) {
     const int kind = pick_kind(rng), field = pick_field(rng);
@@ -176,7 +178,7 @@ TEST(BadInputRandom, EveryInputRefusedByNameOrSimulatedWithoutRollback) {
       what += "spawn_sphere field " + std::to_string(field) + " = " +
               (field == 9 ? frame.substr(0, 20) : show(x));
       watch.setCase(what);
-      const auto res = call<SpawnSphere>("cloth/spawn_sphere", r);
+      const auto res = call<SpawnSphere>(names::kSpawnSphere, r);
       expectNamed(res.success, res.message, names[field], what);
       tally["spawn_sphere"].count(res.success);
       if (res.success) spheres.insert(res.id);
@@ -190,7 +192,7 @@ TEST(BadInputRandom, EveryInputRefusedByNameOrSimulatedWithoutRollback) {
               ", 0, " + show(r.point.point.z) + ") in '" + r.point.header.frame_id.substr(0, 20) +
               "' stiffness " + show(r.stiffness);
       watch.setCase(what);
-      const auto res = call<AddPin>("cloth/add_pin", r);
+      const auto res = call<AddPin>(names::kAddPin, r);
       expectNamed(res.success, res.message, {"vertex", "point", "stiffness"}, what);
       tally["add_pin"].count(res.success);
       if (res.success) pins.insert(res.id);
@@ -212,7 +214,7 @@ TEST(BadInputRandom, EveryInputRefusedByNameOrSimulatedWithoutRollback) {
       if (field < 5) {
         RemoveSphere::Request r;
         r.id = n;
-        const auto res = call<RemoveSphere>("cloth/remove_sphere", r);
+        const auto res = call<RemoveSphere>(names::kRemoveSphere, r);
         expectNamed(res.success, res.message, {"sphere"}, what);
         EXPECT_EQ(res.success, spheres.count(n) == 1) << what;
         if (res.success) spheres.erase(n);
@@ -220,7 +222,7 @@ TEST(BadInputRandom, EveryInputRefusedByNameOrSimulatedWithoutRollback) {
       } else {
         RemovePin::Request r;
         r.id = n;
-        const auto res = call<RemovePin>("cloth/remove_pin", r);
+        const auto res = call<RemovePin>(names::kRemovePin, r);
         expectNamed(res.success, res.message, {"pin"}, what);
         EXPECT_EQ(res.success, pins.count(n) == 1) << what;
         if (res.success) pins.erase(n);
@@ -252,8 +254,8 @@ TEST(BadInputRandom, EveryInputRefusedByNameOrSimulatedWithoutRollback) {
         what += "reconfigure solver = " + s.value.substr(0, 20);
       }
       watch.setCase(what);
-      const auto config = call<dynamic_reconfigure::Reconfigure>("cloth_sim_node/set_parameters",
-                                                                 req).config;
+      const auto config =
+          call<dynamic_reconfigure::Reconfigure>(names::setParameters(), req).config;
       for (const auto& d : config.doubles) {
         EXPECT_TRUE(std::isfinite(d.value)) << what << ": " << d.name << " reported " << d.value;
       }
@@ -262,7 +264,7 @@ TEST(BadInputRandom, EveryInputRefusedByNameOrSimulatedWithoutRollback) {
       back.config.doubles = initial.doubles;
       back.config.ints = initial.ints;
       back.config.strs = initial.strs;
-      call<dynamic_reconfigure::Reconfigure>("cloth_sim_node/set_parameters", back);
+      call<dynamic_reconfigure::Reconfigure>(names::setParameters(), back);
     }
     ros::WallDuration(0.02).sleep();  // about one frame between two cases
   }
@@ -284,7 +286,7 @@ TEST(BadInputRandom, EveryInputRefusedByNameOrSimulatedWithoutRollback) {
   }
   EXPECT_EQ(last.divergence_resets, start.divergence_resets);
   for (const auto& a : p.collectMarkers(0.5)) EXPECT_TRUE(allFinite(a));
-  EXPECT_GT(p.countLogs("cloth/pin_move: pin"), 0);  // refused moves were logged
+  EXPECT_GT(p.countLogs(std::string(names::kPinMove) + ": pin"), 0);  // refused moves were logged
   const auto problems = watch.problems();
   for (std::size_t k = 0; k < std::min<std::size_t>(problems.size(), 10); ++k) {
     ADD_FAILURE() << problems[k];

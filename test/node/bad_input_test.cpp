@@ -53,8 +53,8 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   probe();
   const auto ok = stamped("world", 0.0, 0.0, 1.0);
   std::vector<std::pair<SpawnSphere::Request, std::string>> cases = {
-      {sphere(ok, 0.0), "radius 0 must be in (0, 1e+06] m"},
-      {sphere(ok, -0.1), "radius -0.1 must be in (0, 1e+06] m"},
+      {sphere(ok, 0.0), "sphere radius 0 must be in (0, 1e+06] m"},
+      {sphere(ok, -0.1), "sphere radius -0.1 must be in (0, 1e+06] m"},
       {sphere(ok, kNaN), "radius nan m"},
       {sphere(stamped("world", kNaN, 0.0, 1.0), 0.1), "center (nan, 0, 1) is not finite"},
       {sphere(stamped("nowhere", 0.0, 0.0, 1.0), 0.1), "center: frame 'nowhere' is unknown"},
@@ -62,17 +62,17 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   };
   SpawnSphere::Request r = sphere(ok, 0.1);
   r.mass = -1.0;
-  cases.emplace_back(r, "mass -1 must be in [0, 1e+09] kg (0 = kinematic)");
+  cases.emplace_back(r, "sphere mass -1 must be in [0, 1e+09] kg (0 = kinematic)");
   r.mass = 2.0;
   r.restitution = 1.5;
-  cases.emplace_back(r, "restitution 1.5 must be in [0, 1]");
+  cases.emplace_back(r, "sphere restitution 1.500000 must be in [0, 1]");
   r.restitution = 0.0;
   r.mass = 0.0;
   r.velocity.x = kInf;
   cases.emplace_back(r, "velocity (inf, 0, 0) is not finite");
   r.velocity.x = 0.0;
   r.friction = -1.0;
-  cases.emplace_back(r, "friction -1 must be in [0, 100]");
+  cases.emplace_back(r, "sphere friction -1.000000 must be finite and >= 0");
   // Absurd but finite spheres were once answered success and then wrecked the scene.
   r.friction = 0.0;
   cases.emplace_back(sphere(ok, 1e6), "radius 1e+06 m must be at most the cloth's size, 1 m");
@@ -84,23 +84,24 @@ TEST(BadInput, SpawnSphereRefusesWhatItCannotUse) {
   r.mass = 1e-300;
   cases.emplace_back(r, "must be 0 (kinematic) or at least 1e-09 times the cloth's mass");
   for (const auto& [req, why] : cases) {
-    const auto res = call<SpawnSphere>("cloth/spawn_sphere", req);
+    const auto res = call<SpawnSphere>(names::kSpawnSphere, req);
     expectRefused(res, why);
   }
   // A refused service call is logged too.
-  EXPECT_TRUE(probe().waitForLog("cloth/spawn_sphere: radius 0 must be in (0, 1e+06] m", 5.0));
+  EXPECT_TRUE(probe().waitForLog(
+      std::string(names::kSpawnSphere) + ": sphere radius 0 must be in (0, 1e+06] m", 5.0));
 }
 
 TEST(BadInput, RemoveSphereAndRemovePinRefuseUnknownIds) {
   probe();
   RemoveSphere::Request rs;
   rs.id = 42;
-  const auto sphere_res = call<RemoveSphere>("cloth/remove_sphere", rs);
+  const auto sphere_res = call<RemoveSphere>(names::kRemoveSphere, rs);
   EXPECT_FALSE(sphere_res.success);
   EXPECT_TRUE(contains(sphere_res.message, "no sphere with id 42")) << sphere_res.message;
   RemovePin::Request rp;
   rp.id = 99;
-  const auto pin_res = call<RemovePin>("cloth/remove_pin", rp);
+  const auto pin_res = call<RemovePin>(names::kRemovePin, rp);
   EXPECT_FALSE(pin_res.success);
   EXPECT_TRUE(contains(pin_res.message, "no pin with id 99")) << pin_res.message;
 }
@@ -125,7 +126,7 @@ TEST(BadInput, AddPinRefusesWhatItCannotUse) {
       {request(5, origin, kNaN), "pin stiffness nan"},
   };
   for (const auto& [req, why] : cases) {
-    const auto res = call<AddPin>("cloth/add_pin", req);
+    const auto res = call<AddPin>(names::kAddPin, req);
     expectRefused(res, why);
   }
 }
@@ -133,7 +134,7 @@ TEST(BadInput, AddPinRefusesWhatItCannotUse) {
 TEST(BadInput, PinMoveRefusalsAreLoggedThrottledPerKind) {
   NodeProbe& p = probe();
   ros::NodeHandle nh;
-  ros::Publisher pub = nh.advertise<PinMove>("cloth/pin_move", 100);
+  ros::Publisher pub = nh.advertise<PinMove>(names::kPinMove, 100);
   ASSERT_TRUE(waitForSubscriber(pub));
 
   auto send = [&](int id, const geometry_msgs::PointStamped& target) {
@@ -146,11 +147,14 @@ TEST(BadInput, PinMoveRefusalsAreLoggedThrottledPerKind) {
   send(0, stamped("world", kNaN, 0.0, 1.0));
   send(0, stamped("nowhere", 0.0, 0.0, 1.0));
   send(0, stamped("world", 1e6, 0.0, 1.0));  // once accepted, then 30 rollbacks and a reset
-  EXPECT_TRUE(p.waitForLog("cloth/pin_move: pin 99: no pin with id 99", 5.0));
-  EXPECT_TRUE(p.waitForLog("cloth/pin_move: pin 0: target (1e+06, 0, 1) m is", 5.0));
+  EXPECT_TRUE(p.waitForLog(std::string(names::kPinMove) + ": pin 99: no pin with id 99", 5.0));
+  EXPECT_TRUE(
+      p.waitForLog(std::string(names::kPinMove) + ": pin 0: target (1e+06, 0, 1) m is", 5.0));
   EXPECT_TRUE(p.waitForLog("beyond ~sphere_cull_distance = 20 m", 5.0));
-  EXPECT_TRUE(p.waitForLog("cloth/pin_move: pin 0: target (nan, 0, 1) is not finite", 5.0));
-  EXPECT_TRUE(p.waitForLog("cloth/pin_move: pin 0: target: frame 'nowhere' is unknown", 5.0));
+  EXPECT_TRUE(p.waitForLog(
+      std::string(names::kPinMove) + ": pin 0: target (nan, 0, 1) is not finite", 5.0));
+  EXPECT_TRUE(p.waitForLog(
+      std::string(names::kPinMove) + ": pin 0: target: frame 'nowhere' is unknown", 5.0));
 
   // The same refusal again and again within the throttle period is logged once.
   for (int i = 0; i < 20; ++i) {
@@ -158,7 +162,7 @@ TEST(BadInput, PinMoveRefusalsAreLoggedThrottledPerKind) {
     ros::WallDuration(0.02).sleep();
   }
   ros::WallDuration(1.0).sleep();
-  EXPECT_EQ(p.countLogs("cloth/pin_move: pin 99: no pin with id 99"), 1);
+  EXPECT_EQ(p.countLogs(std::string(names::kPinMove) + ": pin 99: no pin with id 99"), 1);
 }
 
 TEST(BadInput, NothingChangedAndTheNodeKeepsPublishing) {
@@ -191,10 +195,10 @@ TEST(BadInput, EachResetIsLoggedOnce) {
   const std::string line = "reset to the initial state";
   const int before = p.countLogs(line);
   for (int k = 0; k < 3; ++k) {
-    const auto res = call<std_srvs::Trigger>("cloth/reset", std_srvs::Trigger::Request());
+    const auto res = call<std_srvs::Trigger>(names::kReset, std_srvs::Trigger::Request());
     EXPECT_TRUE(res.success) << res.message;
   }
-  EXPECT_TRUE(p.waitForLog("cloth/reset: simulation " + line, 5.0));
+  EXPECT_TRUE(p.waitForLog(std::string(names::kReset) + ": simulation " + line, 5.0));
   ros::WallDuration(1.0).sleep();  // /rosout is asynchronous: let every line arrive
   EXPECT_EQ(p.countLogs(line) - before, 3);
 }

@@ -72,22 +72,24 @@ TEST(Conversions, EveryBadSphereRequestIsRefusedSayingWhy) {
   };
   const Vec3 o = Vec3::Zero();
   const Case cases[] = {
-      {sphereRequest(0.0), o, o, "radius 0 must be in (0, 1e+06] m"},
-      {sphereRequest(-0.1), o, o, "radius -0.1 must be in (0, 1e+06] m"},
-      {sphereRequest(kNaN), o, o, "radius nan must be in (0, 1e+06] m"},
-      {sphereRequest(kInf), o, o, "radius inf must be in (0, 1e+06] m"},
-      {sphereRequest(0.1, -1.0), o, o, "mass -1 must be in [0, 1e+09] kg (0 = kinematic)"},
-      {sphereRequest(0.1, kNaN), o, o, "mass nan must be in [0, 1e+09] kg"},
-      {sphereRequest(0.1, 0.0, -0.5), o, o, "friction -0.5 must be in [0, 100]"},
-      {sphereRequest(0.1), Vec3(kNaN, 0, 0), o, "center (nan, 0, 0) is not finite"},
-      {sphereRequest(0.1), o, Vec3(0, 0, kInf), "velocity (0, 0, inf) is not finite"},
+      {sphereRequest(0.0), o, o, "sphere radius 0 must be in (0, 1e+06] m"},
+      {sphereRequest(-0.1), o, o, "sphere radius -0.1 must be in (0, 1e+06] m"},
+      {sphereRequest(kNaN), o, o, "sphere radius nan must be in (0, 1e+06] m"},
+      {sphereRequest(kInf), o, o, "sphere radius inf must be in (0, 1e+06] m"},
+      {sphereRequest(0.1, -1.0), o, o, "sphere mass -1 must be in [0, 1e+09] kg (0 = kinematic)"},
+      {sphereRequest(0.1, kNaN), o, o, "sphere mass nan must be in [0, 1e+09] kg"},
+      {sphereRequest(0.1, 0.0, -0.5), o, o, "sphere friction -0.5 must be in [0, 100]"},
+      // Through cloth/spawn_sphere FrameResolver refuses these first, naming the values.
+      {sphereRequest(0.1), Vec3(kNaN, 0, 0), o, "sphere center must be finite"},
+      {sphereRequest(0.1), o, Vec3(0, 0, kInf), "sphere velocity must be finite"},
   };
   SpawnSphere::Request bouncy = sphereRequest(0.1, 2.0);
   bouncy.restitution = 1.5;
   SpawnSphere::Request unknown_bounce = sphereRequest(0.1, 2.0);
   unknown_bounce.restitution = kNaN;
-  const Case restitution_cases[] = {{bouncy, o, o, "restitution 1.5 must be in [0, 1]"},
-                                    {unknown_bounce, o, o, "restitution nan must be in [0, 1]"}};
+  const Case restitution_cases[] = {
+      {bouncy, o, o, "sphere restitution 1.500000 must be in [0, 1]"},
+      {unknown_bounce, o, o, "sphere restitution nan must be in [0, 1]"}};
   std::vector<Case> all(std::begin(cases), std::end(cases));
   all.insert(all.end(), std::begin(restitution_cases), std::end(restitution_cases));
   for (const Case& c : all) {

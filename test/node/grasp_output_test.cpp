@@ -46,7 +46,7 @@ TEST(GraspOutput, ArrowFromTheOriginAlongTheForceAndDeleteWhenReleased) {
   std_msgs::Header header;
   header.frame_id = "world";
   const visualization_msgs::Marker arrow = graspArrow(turnedGrasp(), false, 0.1, header);
-  EXPECT_EQ(arrow.ns, kGraspsNs);
+  EXPECT_EQ(arrow.ns, names::kGraspsNs);
   EXPECT_EQ(arrow.type, visualization_msgs::Marker::ARROW);
   ASSERT_EQ(arrow.points.size(), 2u);
   EXPECT_DOUBLE_EQ(arrow.points[0].z, 3.0);

@@ -52,7 +52,7 @@ void wallSleep(double s) { ros::WallDuration(s).sleep(); }
 Step::Response step(std::uint32_t frames) {
   Step::Request req;
   req.frames = frames;
-  const Step::Response res = call<Step>("cloth/step", req);
+  const Step::Response res = call<Step>(names::kStep, req);
   EXPECT_TRUE(res.success) << res.message;
   return res;
 }
@@ -69,7 +69,7 @@ void reset() {
   if (now.stamp <= lastPublished()) {  // step past what was published before starting over
     step(static_cast<std::uint32_t>(std::ceil((lastPublished() - now.stamp).toSec() * 60.0)) + 1);
   }
-  const auto res = call<std_srvs::Trigger>("cloth/reset", std_srvs::Trigger::Request());
+  const auto res = call<std_srvs::Trigger>(names::kReset, std_srvs::Trigger::Request());
   ASSERT_TRUE(res.success) << res.message;
 }
 
@@ -145,12 +145,12 @@ AddGrasp::Response grasp(const std::vector<int>& vertices, double radius = 0.0,
   req.frame_id = frame;
   req.vertices = vertices;
   req.radius = radius;
-  return call<AddGrasp>("cloth/grasp", req);
+  return call<AddGrasp>(names::kGrasp, req);
 }
 
 /// The state published for the frame that ended at @p stamp.
 Collector<ClothState>& states() {
-  static Collector<ClothState> all("cloth/state");
+  static Collector<ClothState> all(names::kState);
   return all;
 }
 ClothState stateAt(const ros::Time& stamp) {
@@ -171,7 +171,7 @@ int hangAtRest(ros::Time& origin) {
 }
 
 TEST(Grasp, StartsPausedStepsOnRequestAndPublishesTheClock) {
-  Collector<rosgraph_msgs::Clock> clock("/clock");
+  Collector<rosgraph_msgs::Clock> clock(names::kClock);
   states();
   wallSleep(0.5);  // both subscriptions connected
   reset();
@@ -186,9 +186,9 @@ TEST(Grasp, StartsPausedStepsOnRequestAndPublishesTheClock) {
       << "/clock never said " << b.stamp;
   EXPECT_EQ(stateAt(b.stamp).sim_time, b.sim_time);
 
-  EXPECT_TRUE(call<std_srvs::Trigger>("cloth/unpause", {}).success);
+  EXPECT_TRUE(call<std_srvs::Trigger>(names::kUnpause, {}).success);
   wallSleep(0.5);
-  EXPECT_TRUE(call<std_srvs::Trigger>("cloth/pause", {}).success);
+  EXPECT_TRUE(call<std_srvs::Trigger>(names::kPause, {}).success);
   const Step::Response c = step(0);
   EXPECT_GT(c.sim_time, b.sim_time) << "unpaused: the timer steps";
   wallSleep(0.3);
@@ -229,7 +229,7 @@ TEST(Grasp, AGraspHoldsItsParticlesOnTheMovingFrameAndShowsInStateAndMarkers) {
 TEST(Grasp, HangingAtRestTheWrenchIsTheClothsWeight) {
   ros::Time origin;
   const int id = hangAtRest(origin);
-  Collector<geometry_msgs::WrenchStamped> w("cloth/grasps/" + std::to_string(id) + "/wrench");
+  Collector<geometry_msgs::WrenchStamped> w(names::graspWrench(id));
   wallSleep(0.5);
   const Step::Response r = step(1);
   const auto got = w.waitFor([&](const geometry_msgs::WrenchStamped& m) { return m.header.stamp == r.stamp; });
@@ -261,7 +261,7 @@ TEST(Grasp, LiftedAtConstantAccelerationTheWrenchIsMassTimesGPlusA) {
   const AddGrasp::Response g = grasp(topRow());
   ASSERT_TRUE(g.success) << g.message;
   step(240);  // at rest
-  Collector<geometry_msgs::WrenchStamped> w("cloth/grasps/" + std::to_string(g.id) + "/wrench");
+  Collector<geometry_msgs::WrenchStamped> w(names::graspWrench(g.id));
   wallSleep(0.5);
   const Step::Response r = step(60);  // 1 s of lift
   const auto got = w.waitFor([&](const geometry_msgs::WrenchStamped& m) { return m.header.stamp == r.stamp; });
@@ -281,13 +281,13 @@ TEST(Grasp, LiftedAtConstantAccelerationTheWrenchIsMassTimesGPlusA) {
 TEST(Grasp, ReleasedGraspLetsGoAndItsWrenchStops) {
   ros::Time origin;
   const int id = hangAtRest(origin);
-  Collector<geometry_msgs::WrenchStamped> w("cloth/grasps/" + std::to_string(id) + "/wrench");
+  Collector<geometry_msgs::WrenchStamped> w(names::graspWrench(id));
   wallSleep(0.5);
   step(3);
   ASSERT_TRUE(w.waitFor([](const geometry_msgs::WrenchStamped&) { return true; }).has_value());
   ReleaseGrasp::Request req;
   req.id = id;
-  const ReleaseGrasp::Response res = call<ReleaseGrasp>("cloth/release", req);
+  const ReleaseGrasp::Response res = call<ReleaseGrasp>(names::kRelease, req);
   ASSERT_TRUE(res.success) << res.message;
   wallSleep(0.3);
   const std::size_t before = w.all().size();
@@ -300,12 +300,12 @@ TEST(Grasp, ReleasedGraspLetsGoAndItsWrenchStops) {
 }
 
 TEST(Grasp, PointCloudOfEveryParticleStampedWithTheSimulatedTime) {
-  Collector<sensor_msgs::PointCloud2> points("cloth/points");
+  Collector<sensor_msgs::PointCloud2> points(names::kPoints);
   reset();
   const Step::Response r = step(3);
   const auto cloud = points.waitFor([&](const sensor_msgs::PointCloud2& c) { return c.header.stamp == r.stamp; });
   ASSERT_TRUE(cloud.has_value()) << "no cloth/points stamped " << r.stamp;
-  EXPECT_EQ(cloud->header.frame_id, "world");
+  EXPECT_EQ(cloud->header.frame_id, names::kDefaultFrame);
   EXPECT_EQ(cloud->width, static_cast<std::uint32_t>(scene().model().particleCount()));
   sensor_msgs::PointCloud2ConstIterator<float> p(*cloud, "x"), n(*cloud, "normal_x");
   for (std::uint32_t i = 0; i < cloud->width; ++i, ++p, ++n) {
@@ -327,7 +327,7 @@ std::string scriptedRun() {
   step(90);
   ReleaseGrasp::Request req;
   req.id = g.id;
-  EXPECT_TRUE(call<ReleaseGrasp>("cloth/release", req).success);
+  EXPECT_TRUE(call<ReleaseGrasp>(names::kRelease, req).success);
   return step(30).state_digest;
 }
 
@@ -370,7 +370,7 @@ class BadInput : public ::testing::Test {
     AddGrasp::Request req;
     req.frame_id = "gripper";
     edit(req);
-    return call<AddGrasp>("cloth/grasp", req);
+    return call<AddGrasp>(names::kGrasp, req);
   }
   ros::Time origin_;
   int grasp_ = -1;
@@ -407,7 +407,7 @@ TEST_F(BadInput, UnknownGraspId) {
   expectRefused<ReleaseGrasp::Response>([&] {
     ReleaseGrasp::Request req;
     req.id = grasp_ + 7;
-    return call<ReleaseGrasp>("cloth/release", req);
+    return call<ReleaseGrasp>(names::kRelease, req);
   }, "no grasp with id " + std::to_string(grasp_ + 7));
 }
 TEST_F(BadInput, RemovingAGraspsPin) {
@@ -416,14 +416,14 @@ TEST_F(BadInput, RemovingAGraspsPin) {
   expectRefused<RemovePin::Response>([&] {
     RemovePin::Request req;
     req.id = s.pins[0].id;
-    return call<RemovePin>("cloth/remove_pin", req);
+    return call<RemovePin>(names::kRemovePin, req);
   }, "belongs to grasp");
 }
 TEST_F(BadInput, TooManyFrames) {
   expectRefused<Step::Response>([&] {
     Step::Request req;
     req.frames = 4000000000u;
-    return call<Step>("cloth/step", req);
+    return call<Step>(names::kStep, req);
   }, "frames 4000000000 must be <= 6000000");
 }
 

@@ -51,7 +51,7 @@ NodeProbe& probe() {
 }
 
 void reset() {
-  const auto res = call<std_srvs::Trigger>("cloth/reset", std_srvs::Trigger::Request());
+  const auto res = call<std_srvs::Trigger>(names::kReset, std_srvs::Trigger::Request());
   ASSERT_TRUE(res.success) << res.message;
 }
 
@@ -97,9 +97,9 @@ TEST(Integration, MarkersAndStateArriveAtTheirRatesWithTheWholeCloth) {
   ASSERT_GE(arrays.size(), 10u);
   for (const auto& a : arrays) {
     ASSERT_TRUE(allFinite(a));
-    const visualization_msgs::Marker* cloth = findMarker(a, "cloth", 0);
+    const visualization_msgs::Marker* cloth = findMarker(a, names::kClothNs, 0);
     ASSERT_NE(cloth, nullptr);
-    EXPECT_EQ(cloth->header.frame_id, "world");
+    EXPECT_EQ(cloth->header.frame_id, names::kDefaultFrame);
     EXPECT_EQ(cloth->type, visualization_msgs::Marker::TRIANGLE_LIST);
     EXPECT_EQ(cloth->colors.size(), cloth->points.size());
     const Points x = clothPositions(a, triangles, n);  // one position per particle
@@ -116,7 +116,7 @@ TEST(Integration, APinMovedInAnotherFrameBringsItsVertexToTheTarget) {
   NodeProbe& p = probe();
   reset();
   ros::NodeHandle nh;
-  ros::Publisher pub = nh.advertise<PinMove>("cloth/pin_move", 1);
+  ros::Publisher pub = nh.advertise<PinMove>(names::kPinMove, 1);
   ASSERT_TRUE(waitForSubscriber(pub));
   const Vec3 goal(-0.3, 0.6, 1.6);  // world; pin 0 rests at (-0.5, 0.5, 1.5)
   const Vec3 local = toTestFrame(goal);
@@ -159,13 +159,13 @@ TEST(Integration, DraggingAPinHandleMovesThePin) {
   // What RViz sends while a person drags the handle of pin 1.
   ros::NodeHandle nh;
   ros::Publisher pub = nh.advertise<visualization_msgs::InteractiveMarkerFeedback>(
-      "cloth/pin_handles/feedback", 10);
+      std::string(names::kPinHandles) + "/feedback", 10);
   ASSERT_TRUE(waitForSubscriber(pub)) << "no drag handle server";
   const Vec3 goal(0.4, 0.3, 1.7);
   // What a second RViz hears: the handle's new pose.
   std::atomic<bool> seen_elsewhere{false};
   ros::Subscriber updates = nh.subscribe<visualization_msgs::InteractiveMarkerUpdate>(
-      "cloth/pin_handles/update", 10,
+      std::string(names::kPinHandles) + "/update", 10,
       [&](const visualization_msgs::InteractiveMarkerUpdateConstPtr& u) {
         for (const auto& pose : u->poses) {
           const Vec3 at(pose.pose.position.x, pose.pose.position.y, pose.pose.position.z);
@@ -208,7 +208,7 @@ TEST(Integration, ASpawnedSphereIsDrawnKeepsTheClothOutAndIsRemoved) {
   SpawnSphere::Request req;
   req.center = stamped("test_frame", local.x(), local.y(), local.z());
   req.radius = radius;
-  const auto res = call<SpawnSphere>("cloth/spawn_sphere", req);
+  const auto res = call<SpawnSphere>(names::kSpawnSphere, req);
   ASSERT_TRUE(res.success) << res.message;
   ASSERT_GE(res.id, 0);
 
@@ -238,7 +238,7 @@ TEST(Integration, ASpawnedSphereIsDrawnKeepsTheClothOutAndIsRemoved) {
 
   RemoveSphere::Request remove;
   remove.id = res.id;
-  const auto removed = call<RemoveSphere>("cloth/remove_sphere", remove);
+  const auto removed = call<RemoveSphere>(names::kRemoveSphere, remove);
   ASSERT_TRUE(removed.success) << removed.message;
   const auto deleted = p.waitForMarkers(
       [&](const visualization_msgs::MarkerArray& a) {
@@ -270,7 +270,7 @@ TEST(Integration, AThrownKinematicSphereKeepsItsVelocityThroughTheCloth) {
   req.velocity.x = velocity.y();  // the same velocity in test_frame (turned 90 degrees)
   req.velocity.y = -velocity.x();
   req.radius = 0.1;
-  const auto res = call<SpawnSphere>("cloth/spawn_sphere", req);
+  const auto res = call<SpawnSphere>(names::kSpawnSphere, req);
   ASSERT_TRUE(res.success) << res.message;
 
   const auto states = withSphere(p.collectStates(1.5));  // crosses y = 0.5 after about 0.5 s
@@ -301,7 +301,7 @@ TEST(Integration, AThrownDynamicSphereFallsAndIsSlowedByTheCloth) {
   req.velocity.z = -speed;
   req.radius = 0.1;
   req.mass = mass;
-  const auto res = call<SpawnSphere>("cloth/spawn_sphere", req);
+  const auto res = call<SpawnSphere>(names::kSpawnSphere, req);
   ASSERT_TRUE(res.success) << res.message;
 
   const auto states = withSphere(p.collectSimulatedTime(0.8));
@@ -344,10 +344,10 @@ TEST(Integration, TheDiagnosticsJudgeEachFrameAgainstTheFramesBudget) {
   std::mutex mutex;
   std::string message;
   ros::Subscriber diag = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
-      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& a) {
+      names::kDiagnostics, 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& a) {
         std::lock_guard<std::mutex> lock(mutex);
         for (const auto& s : a->status)
-          if (s.name.find("simulation step") != std::string::npos) message = s.message;
+          if (s.name.find(names::kDiagnosticsTask) != std::string::npos) message = s.message;
       });
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(5.0);
   while (ros::WallTime::now() < end) {
@@ -372,13 +372,13 @@ TEST(Integration, ResetRestoresTheInitialState) {
   AddPin::Request add;
   add.vertex = -1;
   add.point = stamped("test_frame", near16.x(), near16.y(), near16.z());
-  const auto added = call<AddPin>("cloth/add_pin", add);
+  const auto added = call<AddPin>(names::kAddPin, add);
   ASSERT_TRUE(added.success) << added.message;
   EXPECT_EQ(added.vertex, 16);
   SpawnSphere::Request spawn;
   spawn.center = stamped("world", 0.0, 0.3, 1.0);
   spawn.radius = 0.1;
-  const auto sphere = call<SpawnSphere>("cloth/spawn_sphere", spawn);
+  const auto sphere = call<SpawnSphere>(names::kSpawnSphere, spawn);
   ASSERT_TRUE(sphere.success) << sphere.message;
   ros::WallDuration(2.0).sleep();
   const ClothState edited = p.latestState();

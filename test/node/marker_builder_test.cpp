@@ -75,7 +75,7 @@ class MarkerBuilderTest : public ::testing::Test {
 
 TEST_F(MarkerBuilderTest, TheClothIsOneTriangleListWithAColourPerPoint) {
   const MarkerBuild b = build();
-  const auto cloth = find(b, kClothNs);
+  const auto cloth = find(b, names::kClothNs);
   ASSERT_EQ(cloth.size(), 1u);
   const Marker& m = *cloth[0];
   EXPECT_EQ(m.id, 0);
@@ -99,7 +99,7 @@ TEST_F(MarkerBuilderTest, TheClothIsOneTriangleListWithAColourPerPoint) {
 
 TEST_F(MarkerBuilderTest, PinsSpheresAndGroundHaveStableIdsAndSizes) {
   const MarkerBuild b = build();
-  const auto pins = find(b, kPinsNs);
+  const auto pins = find(b, names::kPinsNs);
   ASSERT_EQ(pins.size(), 2u);
   EXPECT_EQ(pins[0]->id, 0);
   EXPECT_EQ(pins[1]->id, 4);
@@ -108,14 +108,14 @@ TEST_F(MarkerBuilderTest, PinsSpheresAndGroundHaveStableIdsAndSizes) {
   EXPECT_EQ(pins[1]->scale.x, style_.pin_diameter);
   EXPECT_NE(pins[0]->color.g, pins[1]->color.g);  // hard and soft pins differ
 
-  const auto spheres = find(b, kSpheresNs);
+  const auto spheres = find(b, names::kSpheresNs);
   ASSERT_EQ(spheres.size(), 2u);
   EXPECT_EQ(spheres[0]->id, 1);
   EXPECT_EQ(spheres[1]->id, 6);
   EXPECT_EQ(spheres[0]->pose.position.z, -0.5);
   EXPECT_DOUBLE_EQ(spheres[0]->scale.x, 0.4);  // a diameter
 
-  const auto ground = find(b, kGroundNs);
+  const auto ground = find(b, names::kGroundNs);
   ASSERT_EQ(ground.size(), 1u);
   EXPECT_EQ(ground[0]->type, Marker::CUBE);
   // Its top face just under the plane (a cloth lying on it must not flicker through it).
@@ -132,7 +132,7 @@ TEST_F(MarkerBuilderTest, PinsSpheresAndGroundHaveStableIdsAndSizes) {
 
 TEST_F(MarkerBuilderTest, NoGroundMarkerWithoutAGround) {
   ground_.enabled = false;
-  EXPECT_TRUE(find(build(), kGroundNs).empty());
+  EXPECT_TRUE(find(build(), names::kGroundNs).empty());
 }
 
 TEST_F(MarkerBuilderTest, ARemovedThingIsDeletedOnceAndNothingElseIs) {
@@ -146,7 +146,7 @@ TEST_F(MarkerBuilderTest, ARemovedThingIsDeletedOnceAndNothingElseIs) {
     if (m.action == Marker::DELETE) deleted.emplace_back(m.ns, m.id);
   }
   const std::vector<std::pair<std::string, int>> expected = {
-      {kPinsNs, 0}, {kSpheresNs, 6}, {kGroundNs, 0}};
+      {names::kPinsNs, 0}, {names::kSpheresNs, 6}, {names::kGroundNs, 0}};
   EXPECT_EQ(deleted, expected);
 
   const MarkerBuild third = build(second.shown);
@@ -185,7 +185,7 @@ TEST_F(MarkerBuilderTest, ColoursFollowTheStrainLegendWhenUnshaded) {
   strain_[0] = 0.1;    // stretched
   strain_[1] = -0.2;   // compressed past the scale
   const MarkerBuild b = build();
-  const Marker& cloth = *find(b, kClothNs)[0];
+  const Marker& cloth = *find(b, names::kClothNs)[0];
   for (Eigen::Index t = 0; t < triangles_.cols(); ++t) {
     for (int k = 0; k < 3; ++k) {
       const std_msgs::ColorRGBA expected = strainColor(strain_[triangles_(k, t)], 0.1);
@@ -197,7 +197,7 @@ TEST_F(MarkerBuilderTest, ColoursFollowTheStrainLegendWhenUnshaded) {
 TEST_F(MarkerBuilderTest, ShadingDarkensByTheShadeFactorOfTheVertexNormal) {
   // The grid is flat in z = 0: every normal is +-z.
   const MarkerBuild b = build();
-  const Marker& cloth = *find(b, kClothNs)[0];
+  const Marker& cloth = *find(b, names::kClothNs)[0];
   const double f = shadeFactor(Vec3(0, 0, 1));
   EXPECT_NEAR(cloth.colors[0].r, f * strainColor(0.0, 1.0).r, 1e-6);
   EXPECT_LT(f, 1.0);
@@ -208,7 +208,7 @@ TEST_F(MarkerBuilderTest, ShadedModeIsOneColourShadedWhateverTheStrain) {
   strain_.setConstant(0.5);  // far past the full-colour strain
   style_.color_mode = ColorMode::kShaded;
   const MarkerBuild b = build();
-  const Marker& cloth = *find(b, kClothNs)[0];
+  const Marker& cloth = *find(b, names::kClothNs)[0];
   const double f = shadeFactor(Vec3(0, 0, 1));
   for (const auto& c : cloth.colors) {
     EXPECT_NEAR(c.r, f * 0.62, 1e-6);
@@ -221,7 +221,7 @@ TEST_F(MarkerBuilderTest, ShadedModeIsOneColourShadedWhateverTheStrain) {
 }
 
 TEST_F(MarkerBuilderTest, MeshObstaclesAreDrawnOnlyWhenGiven) {
-  EXPECT_TRUE(find(build(), kObstaclesNs).empty());
+  EXPECT_TRUE(find(build(), names::kObstaclesNs).empty());
   TriangleMesh mesh;
   mesh.vertices.resize(3, 4);
   mesh.vertices << 0, 1, 0, 0,  //
@@ -236,7 +236,7 @@ TEST_F(MarkerBuilderTest, MeshObstaclesAreDrawnOnlyWhenGiven) {
   MarkerScene scene{positions_, triangles_, strain_, pins_, spheres_, ground_, Vec3(0, 0, 0), 4.0,
                     &obstacles};
   const MarkerBuild b = buildMarkers(scene, style_, header_, {});
-  const auto drawn = find(b, kObstaclesNs);
+  const auto drawn = find(b, names::kObstaclesNs);
   ASSERT_EQ(drawn.size(), 1u);
   EXPECT_EQ(drawn[0]->id, 0);
   EXPECT_EQ(drawn[0]->type, Marker::TRIANGLE_LIST);

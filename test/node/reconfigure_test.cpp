@@ -16,7 +16,7 @@
 namespace cloth_sim::test {
 namespace {
 
-const char* const kSetParameters = "cloth_sim_node/set_parameters";
+const std::string kSetParameters = names::setParameters();
 
 NodeProbe& probe() {
   static NodeProbe p{ros::NodeHandle()};
@@ -61,7 +61,7 @@ double lowestPoint(double seconds) {
   EXPECT_GE(arrays.size(), 5u);
   double sum = 0.0;
   for (const auto& a : arrays) {
-    const auto* cloth = findMarker(a, "cloth", 0);
+    const auto* cloth = findMarker(a, names::kClothNs, 0);
     double low = INFINITY;
     for (const auto& pt : cloth->points) low = std::min(low, pt.z);
     sum += low;
@@ -166,10 +166,10 @@ TEST(Reconfigure, AnUnstableSolverIsRolledBackThenResetAndDiagnosed) {
   int worst_level = 0;
   std::string worst_message;
   ros::Subscriber diag = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
-      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& a) {
+      names::kDiagnostics, 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& a) {
         std::lock_guard<std::mutex> lock(mutex);
         for (const auto& s : a->status) {
-          if (s.name.find("simulation step") != std::string::npos && s.level > worst_level) {
+          if (s.name.find(names::kDiagnosticsTask) != std::string::npos && s.level > worst_level) {
             worst_level = s.level;
             worst_message = s.message;
           }
@@ -180,12 +180,12 @@ TEST(Reconfigure, AnUnstableSolverIsRolledBackThenResetAndDiagnosed) {
   // beside the sheet. The automatic reset once wiped both.
   AddPin::Request pin_req;
   pin_req.vertex = 11 * 12;  // row 11, col 0
-  const auto pin = call<AddPin>("cloth/add_pin", pin_req);
+  const auto pin = call<AddPin>(names::kAddPin, pin_req);
   ASSERT_TRUE(pin.success) << pin.message;
   SpawnSphere::Request sphere_req;
   sphere_req.center = stamped("world", 0.0, 0.4, 1.0);
   sphere_req.radius = 0.05;
-  const auto sphere = call<SpawnSphere>("cloth/spawn_sphere", sphere_req);
+  const auto sphere = call<SpawnSphere>(names::kSpawnSphere, sphere_req);
   ASSERT_TRUE(sphere.success) << sphere.message;
 
   // Explicit Euler with 500 N/m springs: h omega is far above 2, every step blows up.

@@ -68,12 +68,12 @@ std::string sourcePath(const std::string& relative) {
 
 NodeProbe::NodeProbe(ros::NodeHandle nh) {
   markers_sub_ = nh.subscribe<visualization_msgs::MarkerArray>(
-      "cloth/markers", 100, [this](const visualization_msgs::MarkerArray::ConstPtr& m) {
+      names::kMarkers, 100, [this](const visualization_msgs::MarkerArray::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(mutex_);
         keep(markers_, *m);
         ++marker_count_;
       });
-  state_sub_ = nh.subscribe<ClothState>("cloth/state", 500, [this](const ClothState::ConstPtr& s) {
+  state_sub_ = nh.subscribe<ClothState>(names::kState, 500, [this](const ClothState::ConstPtr& s) {
     std::lock_guard<std::mutex> lock(mutex_);
     keep(states_, *s);
     latest_state_ = *s;
@@ -171,7 +171,7 @@ const visualization_msgs::Marker* findMarker(const visualization_msgs::MarkerArr
 Points clothPositions(const visualization_msgs::MarkerArray& array,
                       const Eigen::Matrix3Xi& triangles, int particle_count) {
   Points x = Points::Constant(3, particle_count, std::nan(""));
-  const visualization_msgs::Marker* cloth = findMarker(array, "cloth", 0);
+  const visualization_msgs::Marker* cloth = findMarker(array, names::kClothNs, 0);
   if (cloth == nullptr) {
     ADD_FAILURE() << "no cloth marker";
     return x;

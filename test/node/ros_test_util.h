@@ -18,10 +18,12 @@
 
 #include "cloth_sim/core/io/scene.h"
 #include "cloth_sim/node/conversions.h"
+#include "cloth_sim/node/names.h"
 
 namespace cloth_sim::test {
 
 using node::toVec3;
+namespace names = node::names;
 
 /// Path of a file in the source tree.
 std::string sourcePath(const std::string& relative);

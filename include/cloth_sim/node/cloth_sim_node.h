@@ -33,14 +33,16 @@
 #include "cloth_sim/core/simulation/frame_budget.h"
 #include "cloth_sim/core/io/scene_limits.h"
 #include "cloth_sim/core/simulation/simulation.h"
+#include "cloth_sim/node/diagnostics_report.h"
 #include "cloth_sim/node/frame_resolver.h"
 #include "cloth_sim/node/grasp_frames.h"
 #include "cloth_sim/node/log_throttle.h"
 #include "cloth_sim/node/marker_builder.h"
 #include "cloth_sim/node/options.h"
 #include "cloth_sim/node/pin_handles.h"
-#include "cloth_sim/node/sim_clock.h"
+#include "cloth_sim/node/reconfigure_bridge.h"
 #include "cloth_sim/node/render_pacer.h"
+#include "cloth_sim/node/sim_clock.h"
 #include "cloth_sim/node/step_monitor.h"
 
 namespace cloth_sim::node {
@@ -61,21 +63,34 @@ class ClothSimNode {
                std::string scene_name, Simulation sim);
 
  private:
+  // --- wiring (cloth_sim_node.cpp): each called once by the constructor ----------------------
+  /// cloth/markers, cloth/state, cloth/points, /clock (with ~publish_clock) and cloth/pin_move.
+  void advertiseTopics();
+  /// The cloth/... services.
+  void advertiseServices();
+  /// The "simulation step" status on /diagnostics.
+  void startDiagnostics();
+  /// The dynamic_reconfigure server, reporting the values in use and calling onReconfigure.
+  void startReconfigure();
+  /// The pins' drag handles, when ~max_interactive_pins > 0.
+  void startPinHandles();
+  /// The step, render, diagnostics and summary timers.
+  void startTimers();
+
   // --- scheduling (cloth_sim_node.cpp) --------------------------------------------------------
   /// The step timer: one frame unless paused.
   void step(const ros::SteadyTimerEvent&);
   /// One frame: the core's step, the monitor, cloth/state, the wrenches, /clock, and the
   /// automatic reset when due.
   void stepFrame();
-  /// Frame budget on (> 0 ms) or off (0).
-  void setFrameBudget(double budget_ms);
   /// With a frame budget: the next frame's substeps from this frame's wall time.
   void adaptSubsteps();
   void render(const ros::SteadyTimerEvent&);
   void logSummary(const ros::SteadyTimerEvent&);
+  /// Copies diagnosticsReport() of this period into @p status.
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
+  /// Applies a request through the ReconfigureBridge and logs each field's outcome.
   void onReconfigure(ClothSimConfig& config, std::uint32_t level);
-  ClothSimConfig currentConfig() const;
   /// Back to the initial state; @p why goes to the log (throttled when @p automatic).
   void resetSimulation(const std::string& why, bool automatic);
   /// The pins that get drag handles: all but the grasps' (their frame moves them).
@@ -126,18 +141,20 @@ class ClothSimNode {
   std::string scene_name_;
   Simulation sim_;
   StepMonitor monitor_;
+  /// What runtime inputs may ask (reach: ~sphere_cull_distance), and the cloth's initial centre
+  /// and size the markers and the culling use.
+  SceneLimits limits_;
   /// ~budget_ms / reconfigure budget_ms > 0: picks each frame's substeps (adaptSubsteps).
   std::optional<FrameBudget> budget_;
   LogThrottle refusals_{5.0};
   MarkerStyle style_;
+  /// What dynamic_reconfigure changes: sim_, budget_ and style_.color_mode.
+  ReconfigureBridge bridge_{sim_, budget_, style_.color_mode};
   ShownMarkers shown_;
-  Vec3 cloth_center_;   ///< m, centre of the initial positions
-  SceneLimits limits_;  ///< what runtime inputs may ask (reach: ~sphere_cull_distance)
   double ground_size_;  ///< m
   std::uint64_t steps_since_reset_ = 0;
   StepReport last_report_;
-  double window_sim_time_ = 0.0;  ///< s simulated since the last diagnostics report
-  ros::SteadyTime window_start_;
+  RealTimeWindow real_time_;  ///< simulated over wall time since the last diagnostics report
 
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;

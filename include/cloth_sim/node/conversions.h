@@ -31,9 +31,10 @@ geometry_msgs::Vector3 toVector3Msg(const Vec3& v);
 void requireFinite(const Vec3& v, const std::string& what);
 
 /// The sphere a cloth/spawn_sphere request asks for, with @p center (m) and @p velocity (m/s)
-/// already transformed into ~frame_id. Refuses (std::invalid_argument, Setting::require naming
-/// the request's field) a radius, mass, friction or restitution outside its range in
-/// settings_table.h (settings::kSphereRadius, ...).
+/// already transformed into ~frame_id. Refuses (std::invalid_argument) what the core refuses of
+/// any sphere, with the core's message (Colliders::addSphere: a non-finite centre or velocity, a
+/// radius, mass, friction or restitution outside its settings_table.h range); the simulation's
+/// own limits (SceneLimits::checkSphere) are the caller's to ask next.
 SphereCollider sphereFromRequest(const SpawnSphere::Request& request, const Vec3& center,
                                  const Vec3& velocity);
 

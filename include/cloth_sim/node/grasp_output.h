@@ -13,11 +13,9 @@
 
 #include "cloth_sim/core/simulation/grasp.h"
 #include "cloth_sim/node/grasp_frames.h"
+#include "cloth_sim/node/names.h"
 
 namespace cloth_sim::node {
-
-/// Marker namespace of the grasps: one ARROW per grasp (id = grasp id).
-inline constexpr const char* kGraspsNs = "grasps";
 
 /// @p grasp's wrench (Grasp::wrench, simulation frame) expressed in the grasp frame: force and
 /// torque rotated by R^T, R the frame's rotation (the torque is already about its origin).
@@ -26,8 +24,9 @@ geometry_msgs::Wrench wrenchInGraspFrame(const Grasp& grasp);
 /// The GraspInfo of @p grasp, tracked by the node as @p tracked.
 GraspInfo toGraspInfo(const Grasp& grasp, const GraspFrames::Tracked& tracked);
 
-/// An ARROW from the grasp frame's origin along the force the cloth exerts on it, @p scale m
-/// per N long (magenta; red while the frame is stale), in the simulation frame of @p header.
+/// An ARROW (namespace names::kGraspsNs, id = grasp id) from the grasp frame's origin along the
+/// force the cloth exerts on it, @p scale m per N long (magenta; red while the frame is stale), in
+/// the simulation frame of @p header.
 visualization_msgs::Marker graspArrow(const Grasp& grasp, bool stale, double scale,
                                       const std_msgs::Header& header);
 

@@ -13,18 +13,12 @@
 
 #include "cloth_sim/core/collision/colliders.h"
 #include "cloth_sim/core/collision/mesh_obstacle.h"
-#include "cloth_sim/core/model/pins.h"
 #include "cloth_sim/core/linalg/types.h"
+#include "cloth_sim/core/model/pins.h"
+#include "cloth_sim/node/names.h"
 
 namespace cloth_sim::node {
 
-/// Marker namespaces, one per layer. Ids are stable: the cloth and the ground are id 0, a pin
-/// or a sphere uses its core id.
-inline constexpr const char* kClothNs = "cloth";      ///< one TRIANGLE_LIST
-inline constexpr const char* kPinsNs = "pins";        ///< one SPHERE per pin, at its target
-inline constexpr const char* kSpheresNs = "spheres";  ///< one SPHERE per sphere collider
-inline constexpr const char* kGroundNs = "ground";    ///< one thin CUBE, when there is a ground
-inline constexpr const char* kObstaclesNs = "obstacles";  ///< one TRIANGLE_LIST per mesh obstacle
 /// m: the ground's top face is drawn this far below the ground plane, so that a cloth lying on
 /// it (at the plane's height) does not flicker through it in RViz (z-fighting).
 inline constexpr double kGroundDrawGap = 0.002;
@@ -51,6 +45,8 @@ enum class ColorMode {
 };
 /// "strain" or "shaded" -> the mode; throws std::invalid_argument listing both.
 ColorMode colorModeFromName(const std::string& name);
+/// The mode's name, "strain" or "shaded" (the inverse of colorModeFromName).
+const char* colorModeName(ColorMode mode);
 
 /// How things look.
 struct MarkerStyle {
@@ -77,11 +73,12 @@ struct MarkerBuild {
   int sanitized = 0;
 };
 
-/// Builds the array: the cloth as one TRIANGLE_LIST with a colour per point (strainColor,
-/// shaded), a SPHERE per pin and per sphere collider, the ground, the mesh obstacles when given
-/// (flat shaded, one colour); every marker ADD (add or
-/// modify in place), plus a DELETE for each pin or sphere of @p before that no longer exists.
-/// Every coordinate is finite (see MarkerBuild::sanitized). Throws std::invalid_argument if
+/// Builds the array (one marker namespace per layer: names::kClothNs, ...; ids are stable: the
+/// cloth and the ground are id 0, a pin or a sphere uses its core id): the cloth as one
+/// TRIANGLE_LIST with a colour per point (strainColor, shaded), a SPHERE per pin and per sphere
+/// collider, the ground, the mesh obstacles when given (flat shaded, one colour); every marker ADD
+/// (add or modify in place), plus a DELETE for each pin or sphere of @p before that no longer
+/// exists. Every coordinate is finite (see MarkerBuild::sanitized). Throws std::invalid_argument if
 /// the strain size differs from the particle count or a triangle index is out of range.
 MarkerBuild buildMarkers(const MarkerScene& scene, const MarkerStyle& style,
                          const std_msgs::Header& header, const ShownMarkers& before);

@@ -59,8 +59,8 @@ TEST(SolverParams, UnsetReadsTheDefaultAndSetValuesAreValidated) {
 struct SmallCloth {
   BuiltObject object = test::makeGrid(6, 6, 400.0, 40.0, 4.0);
   PinSet pins;
+  static constexpr double kStep = 1.0 / 240.0;  ///< s
   SmallCloth() {
-    object.model.time_step = 1.0 / 240.0;
     for (int v : {0, 5}) pins.add(v, object.rest_positions.col(v), 0.0, 36);
   }
   /// The state after @p steps steps of @p solver with @p settings from rest; the last step's
@@ -70,7 +70,7 @@ struct SmallCloth {
     const std::unique_ptr<Solver> s = makeSolver(solver);
     State state = State::atRest(object.rest_positions);
     for (int k = 0; k < steps; ++k) {
-      const SolveResult r = s->step({object.model, pins, 1}, settings, state);
+      const SolveResult r = s->step({object.model, pins, kStep, 1}, settings, state);
       if (last != nullptr) *last = r;
     }
     return state;
@@ -138,11 +138,11 @@ TEST(SolverRegistry, CapabilitiesAreWhatEachStepDoes) {
     const std::vector<char> movable(36, 1);
     const Points start = cloth.object.rest_positions;
     ContactForces contacts;
-    contacts.beginStep({cloth.object.model.time_step, cloth.object.model.mass, movable, start},
+    contacts.beginStep({SmallCloth::kStep, cloth.object.model.mass, movable, start},
                        colliders);
     State state = State::atRest(start);
     const SolveResult r =
-        makeSolver(entry.name)->step({cloth.object.model, cloth.pins, 1, &contacts}, base, state);
+        makeSolver(entry.name)->step({cloth.object.model, cloth.pins, SmallCloth::kStep, 1, &contacts}, base, state);
     EXPECT_EQ(r.used_contacts, can.contacts_in_step);
   }
 }

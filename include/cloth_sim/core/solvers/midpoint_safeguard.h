@@ -52,7 +52,6 @@ class MidpointSafeguard : public Solver {
   /// energy, redone as two inner implicit Euler steps of input.h / 2 (state.time still advances
   /// by input.h). Returns the last inner step's result, midpoint_fallback set if redone.
   SolveResult step(const SolverInput& input, const SolverSettings& settings, State& state) override;
-  bool supports(Integrator integrator) const override { return inner_->supports(integrator); }
   void requireSettings(const SolverSettings& settings) const override {
     inner_->requireSettings(settings);
   }

@@ -1,0 +1,70 @@
+#include "cloth_sim/node/diagnostics_report.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace cloth_sim::node {
+namespace {
+
+/// @p value with 3 decimals ("%.3f").
+std::string fixed3(double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.3f", value);
+  return text;
+}
+
+}  // namespace
+
+double RealTimeWindow::take(double wall_now) {
+  const double wall = wall_now - start_;
+  const double factor = wall > 0.0 ? sim_time_ / wall : 0.0;
+  start_ = wall_now;
+  sim_time_ = 0.0;
+  return factor;
+}
+
+DiagnosticsReport diagnosticsReport(const DiagnosticsInput& in) {
+  const HealthReport health = assess(in.window);
+  DiagnosticsReport r{health.level, health.message, {}};
+  const StepWindow& w = in.window;
+  auto add = [&r](const char* key, std::string value) {
+    r.values.emplace_back(key, std::move(value));
+  };
+  add("scene", in.scene);
+  add("solver", in.solver);
+  add("substeps per frame", std::to_string(in.substeps));
+  add("frame budget (ms)", fixed3(1e3 * in.frame_budget));
+  add("iterations per substep", std::to_string(in.iterations));
+  add("step budget (ms)", fixed3(1e3 * w.budget));
+  add("mean step time (ms)", fixed3(1e3 * w.mean_time));
+  add("max step time (ms)", fixed3(1e3 * w.max_time));
+  add("steps", std::to_string(w.steps));
+  add("overruns", std::to_string(w.overruns));
+  add("rolled-back steps", std::to_string(w.rollbacks));
+  add("real-time factor", fixed3(in.real_time_factor));
+  add("total overruns", std::to_string(in.total_overruns));
+  add("total rolled-back steps", std::to_string(in.total_rollbacks));
+  add("consecutive rolled-back steps", std::to_string(in.consecutive_failures));
+  add("divergence resets", std::to_string(in.divergence_resets));
+  add("sim time (s)", fixed3(in.sim_time));
+  add("pins", std::to_string(in.pins));
+  add("spheres", std::to_string(in.spheres));
+  add("grasps", std::to_string(in.grasps));
+  add("paused", in.paused ? "yes" : "no");
+  if (!in.stale_grasp_frames.empty()) {
+    std::string frames;
+    for (const std::string& f : in.stale_grasp_frames) frames += (frames.empty() ? "" : ", ") + f;
+    const std::string stale = "grasp frame stopped updating, held at its last pose: " + frames;
+    // Merged as DiagnosticStatusWrapper::mergeSummary(WARN, ...) would.
+    if (r.level != Health::kOk) {
+      r.message += (r.message.empty() ? "" : "; ") + stale;
+    } else {
+      r.message = stale;
+    }
+    r.level = std::max(r.level, Health::kWarn);
+    add("stale grasp frames", frames);
+  }
+  return r;
+}
+
+}  // namespace cloth_sim::node

@@ -1,0 +1,126 @@
+// The "simulation step" status of /diagnostics from the monitor's numbers: level, message,
+// key-values, stale grasp frames merged in; the real-time factor window. No master.
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "cloth_sim/node/diagnostics_report.h"
+
+namespace cloth_sim::node {
+namespace {
+
+/// A report's value for @p key, or "(missing)".
+std::string valueOf(const DiagnosticsReport& r, const std::string& key) {
+  for (const auto& [k, v] : r.values) {
+    if (k == key) return v;
+  }
+  return "(missing)";
+}
+
+/// 60 frames of 5 ms against a 1/60 s budget, on hanging.
+DiagnosticsInput healthy() {
+  DiagnosticsInput in;
+  in.scene = "hanging";
+  in.solver = "local_global";
+  in.substeps = 32;
+  in.iterations = 3;
+  in.window.steps = 60;
+  in.window.mean_time = 0.005;
+  in.window.max_time = 0.0071234;
+  in.window.budget = 1.0 / 60.0;
+  in.real_time_factor = 0.99;
+  in.sim_time = 12.5;
+  in.pins = 2;
+  return in;
+}
+
+TEST(DiagnosticsReport, AHealthyWindowIsOkWithEveryValueInOrder) {
+  const DiagnosticsReport r = diagnosticsReport(healthy());
+  EXPECT_EQ(r.level, Health::kOk);
+  EXPECT_EQ(r.message, "60 steps, mean 5.00 ms of the 16.67 ms budget");
+  const char* const keys[] = {"scene",
+                              "solver",
+                              "substeps per frame",
+                              "frame budget (ms)",
+                              "iterations per substep",
+                              "step budget (ms)",
+                              "mean step time (ms)",
+                              "max step time (ms)",
+                              "steps",
+                              "overruns",
+                              "rolled-back steps",
+                              "real-time factor",
+                              "total overruns",
+                              "total rolled-back steps",
+                              "consecutive rolled-back steps",
+                              "divergence resets",
+                              "sim time (s)",
+                              "pins",
+                              "spheres",
+                              "grasps",
+                              "paused"};
+  ASSERT_EQ(r.values.size(), std::size(keys));
+  for (std::size_t k = 0; k < std::size(keys); ++k) EXPECT_EQ(r.values[k].first, keys[k]);
+  EXPECT_EQ(valueOf(r, "scene"), "hanging");
+  EXPECT_EQ(valueOf(r, "substeps per frame"), "32");
+  EXPECT_EQ(valueOf(r, "frame budget (ms)"), "0.000");
+  EXPECT_EQ(valueOf(r, "step budget (ms)"), "16.667");
+  EXPECT_EQ(valueOf(r, "max step time (ms)"), "7.123");
+  EXPECT_EQ(valueOf(r, "real-time factor"), "0.990");
+  EXPECT_EQ(valueOf(r, "sim time (s)"), "12.500");
+  EXPECT_EQ(valueOf(r, "pins"), "2");
+  EXPECT_EQ(valueOf(r, "paused"), "no");
+}
+
+TEST(DiagnosticsReport, TheLevelAndMessageAreTheMonitorsAssessment) {
+  DiagnosticsInput in = healthy();
+  in.window.rollbacks = 3;
+  EXPECT_EQ(diagnosticsReport(in).level, Health::kWarn);
+  EXPECT_EQ(diagnosticsReport(in).message, assess(in.window).message);
+  in.window.resets = 1;
+  in.divergence_resets = 4;
+  const DiagnosticsReport r = diagnosticsReport(in);
+  EXPECT_EQ(r.level, Health::kError);
+  EXPECT_NE(r.message.find("reset 1 time(s)"), std::string::npos) << r.message;
+  EXPECT_EQ(valueOf(r, "divergence resets"), "4");
+  in = healthy();
+  in.window = StepWindow();
+  in.paused = true;
+  in.frame_budget = 0.0025;
+  EXPECT_EQ(diagnosticsReport(in).level, Health::kWarn);  // no step: stalled (or paused)
+  EXPECT_EQ(valueOf(diagnosticsReport(in), "paused"), "yes");
+  EXPECT_EQ(valueOf(diagnosticsReport(in), "frame budget (ms)"), "2.500");
+}
+
+TEST(DiagnosticsReport, AStaleGraspFrameWarnsAndIsMergedIntoTheSummary) {
+  DiagnosticsInput in = healthy();
+  in.grasps = 2;
+  in.stale_grasp_frames = {"gripper", "left_hand"};
+  DiagnosticsReport r = diagnosticsReport(in);
+  EXPECT_EQ(r.level, Health::kWarn);
+  EXPECT_EQ(r.message, "grasp frame stopped updating, held at its last pose: gripper, left_hand");
+  EXPECT_EQ(r.values.back().first, "stale grasp frames");
+  EXPECT_EQ(r.values.back().second, "gripper, left_hand");
+
+  in.window.rollbacks = 1;  // a warning already: both said, as mergeSummary does
+  r = diagnosticsReport(in);
+  EXPECT_EQ(r.level, Health::kWarn);
+  EXPECT_EQ(r.message, assess(in.window).message +
+                           "; grasp frame stopped updating, held at its last pose: gripper, "
+                           "left_hand");
+  in.window.resets = 1;  // an error stays an error
+  EXPECT_EQ(diagnosticsReport(in).level, Health::kError);
+}
+
+TEST(RealTimeWindow, SimulatedOverWallTimeThenANewWindow) {
+  RealTimeWindow w(10.0);
+  w.add(0.25);
+  w.add(0.25);
+  EXPECT_DOUBLE_EQ(w.take(11.0), 0.5);
+  EXPECT_DOUBLE_EQ(w.take(11.0), 0.0);  // no wall time: 0, not a division by zero
+  w.add(1.0);
+  EXPECT_DOUBLE_EQ(w.take(11.5), 2.0);
+}
+
+}  // namespace
+}  // namespace cloth_sim::node
