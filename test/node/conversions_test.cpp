@@ -88,7 +88,7 @@ TEST(Conversions, EveryBadSphereRequestIsRefusedSayingWhy) {
   SpawnSphere::Request unknown_bounce = sphereRequest(0.1, 2.0);
   unknown_bounce.restitution = kNaN;
   const Case restitution_cases[] = {
-      {bouncy, o, o, "sphere restitution 1.500000 must be in [0, 1]"},
+      {bouncy, o, o, "sphere restitution 1.5 must be in [0, 1]"},
       {unknown_bounce, o, o, "sphere restitution nan must be in [0, 1]"}};
   std::vector<Case> all(std::begin(cases), std::end(cases));
   all.insert(all.end(), std::begin(restitution_cases), std::end(restitution_cases));
