@@ -27,6 +27,15 @@ add_library(cloth_sim_core
   src/core/collision/mesh_obstacle.cpp
   src/core/collision/cell_hash.cpp
   src/core/collision/triangle_intersection.cpp
+  src/core/collision/primitive_distance.cpp
+  src/core/collision/additive_ccd.cpp
+  src/core/collision/surface_topology.cpp
+  src/core/collision/pair_search.cpp
+  src/core/collision/proximity_projection.cpp
+  src/core/collision/impact_failsafe.cpp
+  src/core/collision/contour_untangling.cpp
+  src/core/collision/triangle_self_contact.cpp
+  src/core/collision/particle_self_contact.cpp
   src/core/collision/self_contact.cpp
   src/core/solvers/solver.cpp
   src/core/solvers/registry.cpp
@@ -85,6 +94,8 @@ if(CATKIN_ENABLE_TESTING)
     collision/colliders_test collision/mesh_obstacle_test collision/sphere_impacts_test
     collision/dynamic_spheres_test collision/contact_random_test
     collision/cell_hash_test collision/triangle_intersection_test collision/self_contact_test
+    collision/particle_self_contact_test collision/primitive_distance_test collision/additive_ccd_test
+    collision/triangle_self_contact_test
     collision/self_contact_scenes_test
     solvers/implicit_euler_problem_test solvers/newton_solver_test solvers/revision_cache_test
     solvers/bdf2_test solvers/midpoint_test solvers/midpoint_safeguard_test solvers/registry_test

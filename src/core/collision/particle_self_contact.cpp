@@ -1,27 +1,19 @@
-#include "cloth_sim/core/collision/self_contact.h"
+#include "cloth_sim/core/collision/particle_self_contact.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "cloth_sim/core/collision/contact_projection.h"
-#include "cloth_sim/core/settings/settings_table.h"
 
 namespace cloth_sim {
 
-void SelfContactSettings::validate() const {
-  settings::kSelfThickness.require(thickness);
-  settings::kSelfFriction.require(friction);
-}
-
-SelfContact::SelfContact(const Eigen::Matrix3Xi& triangles, const Points& rest,
-                         const SelfContactSettings& settings)
-    : friction_(settings.friction), rest_(rest) {
-  settings.validate();
+ParticleSelfContact::ParticleSelfContact(const Eigen::Matrix3Xi& triangles, const Points& rest,
+                                         double thickness, double friction)
+    : thickness_(thickness), friction_(friction), rest_(rest) {
   const int n = static_cast<int>(rest.cols());
   std::vector<std::vector<int>> ring(n);
-  double edge_sum = 0.0;
-  int edges = 0;
   for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
     for (int a = 0; a < 3; ++a) {
       const int i = triangles(a, t), j = triangles((a + 1) % 3, t);
@@ -31,8 +23,6 @@ SelfContact::SelfContact(const Eigen::Matrix3Xi& triangles, const Points& rest,
       }
       ring[i].push_back(j);
       ring[j].push_back(i);
-      edge_sum += (rest.col(i) - rest.col(j)).norm();
-      ++edges;
     }
   }
   ring_start_.assign(n + 1, 0);
@@ -43,19 +33,32 @@ SelfContact::SelfContact(const Eigen::Matrix3Xi& triangles, const Points& rest,
   }
   ring_.reserve(ring_start_[n]);
   for (const auto& r : ring) ring_.insert(ring_.end(), r.begin(), r.end());
-  thickness_ = settings.thickness > 0.0 ? settings.thickness : (edges > 0 ? edge_sum / edges : 0.0);
-  if (!(thickness_ > 0.0)) {
-    throw std::invalid_argument(
-        "self_collision.thickness: 0 (automatic) needs a cloth with "
-        "triangles of non-zero size; give a thickness > 0 m");
-  }
+  if (!(thickness_ > 0.0)) throw std::invalid_argument("self-contact: thickness must be > 0 m");
 }
 
-bool SelfContact::neighbours(int i, int j) const {
+double ParticleSelfContact::minimumThickness(const Eigen::Matrix3Xi& triangles,
+                                             const Points& rest) {
+  double widest = 0.0;
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    const Vec3 a = rest.col(triangles(0, t)), b = rest.col(triangles(1, t)),
+               c = rest.col(triangles(2, t));
+    const double la = (b - c).squaredNorm(), lb = (c - a).squaredNorm(), lc = (a - b).squaredNorm();
+    const double longest = std::max({la, lb, lc});
+    double hole = 0.5 * std::sqrt(longest);  // obtuse or right: the longest side's midpoint
+    if (2.0 * longest < la + lb + lc) {      // acute: the circumradius abc / (4 area)
+      const double area2 = (b - a).cross(c - a).norm();
+      if (area2 > 0.0) hole = std::sqrt(la * lb * lc) / (2.0 * area2);
+    }
+    widest = std::max(widest, hole);
+  }
+  return 1.05 * widest;
+}
+
+bool ParticleSelfContact::neighbours(int i, int j) const {
   return std::binary_search(ring_.begin() + ring_start_[i], ring_.begin() + ring_start_[i + 1], j);
 }
 
-void SelfContact::findPairs(const Points& x, double margin) {
+void ParticleSelfContact::findPairs(const Points& x, double margin) {
   pairs_.clear();
   const double reach = thickness_ + margin, reach2 = reach * reach;
   // Cells of twice the reach: a query box spans at most 2 cells a side (8 cells, not 27).
@@ -79,7 +82,7 @@ void SelfContact::findPairs(const Points& x, double margin) {
   }
 }
 
-std::vector<std::pair<int, int>> SelfContact::contacts(const Points& positions) {
+std::vector<std::pair<int, int>> ParticleSelfContact::contacts(const Points& positions) {
   findPairs(positions, 0.0);
   built_at_.resize(3, 0);  // the list is not resolve's any more
   std::vector<std::pair<int, int>> out;
@@ -87,7 +90,7 @@ std::vector<std::pair<int, int>> SelfContact::contacts(const Points& positions) 
   return out;
 }
 
-int SelfContact::limitDisplacement(const CollisionStep& step, Points& end,
+int ParticleSelfContact::limitDisplacement(const CollisionStep& step, Points& end,
                                    Points& velocities) const {
   const double cap = maxDisplacement();
   int limited = 0;
@@ -104,7 +107,7 @@ int SelfContact::limitDisplacement(const CollisionStep& step, Points& end,
   return limited;
 }
 
-int SelfContact::resolve(const CollisionStep& step, const GroundPlane& ground, Points& end,
+int ParticleSelfContact::resolve(const CollisionStep& step, const GroundPlane& ground, Points& end,
                          Points& velocities) {
   if (!end.allFinite()) return 0;  // the step's check rolls this frame back
   before_ = end;

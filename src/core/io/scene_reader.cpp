@@ -296,10 +296,18 @@ void readColliders(const SceneFields& r, const YAML::Node& node, SceneConfig& sc
   }
 }
 
-/// self_collision: {enabled, thickness, friction}; present = on unless enabled: false.
+/// self_collision: {enabled, mode, thickness, friction}; present = on unless enabled: false.
 void readSelfCollision(const SceneFields& r, const YAML::Node& node, SelfContactSettings& self) {
   const std::string path = "self_collision";
-  r.map(node, path, {"enabled", "thickness", "friction"});
+  r.map(node, path, {"enabled", "mode", "thickness", "friction"});
+  if (node["mode"]) {
+    try {
+      self.mode = selfContactModeFromName(r.word(node["mode"], path + ".mode"));
+    } catch (const std::invalid_argument&) {
+      r.fail(path + ".mode", "value " + SceneFields::show(node["mode"]) +
+                                 " must be one of triangles, particles");
+    }
+  }
   self.enabled = true;
   if (node["enabled"]) self.enabled = r.boolean(node["enabled"], path + ".enabled");
   if (node["thickness"]) {

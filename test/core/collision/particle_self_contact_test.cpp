@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cloth_sim/core/collision/self_contact.h"
+#include "cloth_sim/core/collision/particle_self_contact.h"
 #include "cloth_sim/core/model/grid_builder.h"
 
 namespace cloth_sim {
@@ -30,40 +30,9 @@ struct StepData {
   CollisionStep step(double h) const { return CollisionStep{h, mass, movable, start}; }
 };
 
-TEST(SelfContactSettings, RangesAreTheTable) {
-  SelfContactSettings s;
-  EXPECT_NO_THROW(s.validate());
-  s.thickness = -0.01;
-  EXPECT_THROW(s.validate(), std::invalid_argument);
-  s.thickness = 0.01;
-  s.friction = -1.0;
-  try {
-    s.validate();
-    FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("self_collision.friction"), std::string::npos) << e.what();
-  }
-}
-
-TEST(SelfContact, AutomaticThicknessIsTheMeanRestEdge) {
-  GridSpec spec;
-  spec.rows = spec.cols = 11;  // spacing 0.1 m: edges 0.1, 0.1 and 0.1 sqrt 2
-  const BuiltObject g = buildGrid(spec);
-  SelfContactSettings settings;
-  settings.enabled = true;
-  const SelfContact contact(g.model.triangles, g.rest_positions, settings);
-  EXPECT_NEAR(contact.thickness(), 0.1 * (2.0 + std::sqrt(2.0)) / 3.0, 1e-12);
-  EXPECT_NEAR(contact.maxDisplacement(), 0.3 * contact.thickness(), 1e-15);
-  settings.thickness = 0.02;
-  EXPECT_EQ(SelfContact(g.model.triangles, g.rest_positions, settings).thickness(), 0.02);
-}
-
-TEST(SelfContact, ParticlesOfTwoSheetsArePushedToTheThicknessWithMomentumKept) {
+TEST(ParticleSelfContact, ParticlesOfTwoSheetsArePushedToTheThicknessWithMomentumKept) {
   const TwoSheets sheets;
-  SelfContactSettings settings;
-  settings.thickness = 0.05;
-  settings.friction = 0.0;
-  SelfContact contact(sheets.triangles, sheets.rest, settings);
+  ParticleSelfContact contact(sheets.triangles, sheets.rest, 0.05, 0.0);
   // The second sheet lowered onto the first, 1 cm above it: each of its vertices 1 cm above one
   // of the first's.
   Points x = sheets.rest;
@@ -81,19 +50,17 @@ TEST(SelfContact, ParticlesOfTwoSheetsArePushedToTheThicknessWithMomentumKept) {
   EXPECT_TRUE(contact.contacts(x).empty());
 }
 
-TEST(SelfContact, NeighboursPinnedParticlesAndTheGroundAreRespected) {
+TEST(ParticleSelfContact, NeighboursPinnedParticlesAndTheGroundAreRespected) {
   GridSpec spec;
   spec.rows = spec.cols = 3;
   spec.width = spec.height = 0.02;  // spacing 1 cm, thickness 5 cm: every pair is near
   const BuiltObject g = buildGrid(spec);
-  SelfContactSettings settings;
-  settings.thickness = 0.05;
-  SelfContact contact(g.model.triangles, g.rest_positions, settings);
+  ParticleSelfContact contact(g.model.triangles, g.rest_positions, 0.05, 0.3);
   // Pairs that are not neighbours keep their rest distance (below t): nothing to do at rest.
   EXPECT_TRUE(contact.contacts(g.rest_positions).empty());
 
   const TwoSheets sheets;
-  SelfContact sheet_contact(sheets.triangles, sheets.rest, settings);
+  ParticleSelfContact sheet_contact(sheets.triangles, sheets.rest, 0.05, 0.3);
   Points x = sheets.rest;
   for (int k = 4; k < 8; ++k) x.col(k) = sheets.rest.col(k - 4) + Vec3(0, 0, 0.01);
   StepData data(8, x);
@@ -116,13 +83,10 @@ TEST(SelfContact, NeighboursPinnedParticlesAndTheGroundAreRespected) {
   for (int k = 0; k < 4; ++k) EXPECT_GT((x.col(k + 4) - x.col(k)).norm(), 0.045);
 }
 
-TEST(SelfContact, FrictionHoldsASlideOfLessThanMuTimesTheCorrection) {
+TEST(ParticleSelfContact, FrictionHoldsASlideOfLessThanMuTimesTheCorrection) {
   const TwoSheets sheets;
-  SelfContactSettings settings;
-  settings.thickness = 0.05;
   for (const double mu : {0.0, 1.0}) {
-    settings.friction = mu;
-    SelfContact contact(sheets.triangles, sheets.rest, settings);
+    ParticleSelfContact contact(sheets.triangles, sheets.rest, 0.05, mu);
     Points start = sheets.rest;
     for (int k = 4; k < 8; ++k) start.col(k) = sheets.rest.col(k - 4) + Vec3(0, 0, 0.05);
     StepData data(8, start);
@@ -144,11 +108,9 @@ TEST(SelfContact, FrictionHoldsASlideOfLessThanMuTimesTheCorrection) {
   }
 }
 
-TEST(SelfContact, DisplacementIsBoundedAndVelocityFollows) {
+TEST(ParticleSelfContact, DisplacementIsBoundedAndVelocityFollows) {
   const TwoSheets sheets;
-  SelfContactSettings settings;
-  settings.thickness = 0.1;
-  const SelfContact contact(sheets.triangles, sheets.rest, settings);
+  const ParticleSelfContact contact(sheets.triangles, sheets.rest, 0.1, 0.3);
   StepData data(8, sheets.rest);
   data.movable[1] = 0;
   Points x = sheets.rest, v = Points::Zero(3, 8);
@@ -157,10 +119,29 @@ TEST(SelfContact, DisplacementIsBoundedAndVelocityFollows) {
   x.col(2) += Vec3(0, 0, -0.02);  // within the bound
   v.col(0) = Vec3(0, 0, -50.0);
   EXPECT_EQ(contact.limitDisplacement(data.step(0.01), x, v), 1);
+  EXPECT_NEAR(contact.maxDisplacement(), 0.03, 1e-15);
   EXPECT_NEAR((x.col(0) - sheets.rest.col(0)).norm(), 0.03, 1e-12);
   EXPECT_NEAR(v(2, 0), -3.0, 1e-9);
   EXPECT_NEAR(x(2, 1), -0.5, 1e-15);
   EXPECT_NEAR(x(2, 2), -0.02, 1e-15);
+}
+
+TEST(ParticleSelfContact, MinimumThicknessIsAboveTheWidestHole) {
+  // A square grid of spacing s: right triangles, the widest hole is half the diagonal.
+  GridSpec spec;
+  spec.rows = spec.cols = 11;  // spacing 0.1 m
+  const BuiltObject g = buildGrid(spec);
+  EXPECT_NEAR(ParticleSelfContact::minimumThickness(g.model.triangles, g.rest_positions),
+              1.05 * 0.1 / std::sqrt(2.0), 1e-12);
+  // An acute (equilateral) triangle of side 1: its circumradius 1 / sqrt 3; an obtuse one: half
+  // its longest side.
+  Eigen::Matrix3Xi one(3, 1);
+  one << 0, 1, 2;
+  Points equilateral(3, 3), obtuse(3, 3);
+  equilateral << 0, 1, 0.5, 0, 0, std::sqrt(3.0) / 2, 0, 0, 0;
+  obtuse << 0, 2, 1, 0, 0, 0.2, 0, 0, 0;
+  EXPECT_NEAR(ParticleSelfContact::minimumThickness(one, equilateral), 1.05 / std::sqrt(3.0), 1e-12);
+  EXPECT_NEAR(ParticleSelfContact::minimumThickness(one, obtuse), 1.05, 1e-12);
 }
 
 }  // namespace

@@ -152,7 +152,7 @@ TEST(Scene, MalformedScenesAreRefusedNamingTheField) {
        "gravity[2]", "finite"},
       {"material: {springs: {shear: 1}}", "cloth", "is required"},
       {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\nself_collision: {thickness: -0.01}",
-       "self_collision.thickness", ">= 0 m (0 = the mean rest edge length)"},
+       "self_collision.thickness", ">= 0 m (0 = automatic: 2 mm, or the mean rest edge in mode particles)"},
       {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\nself_collision: {friction: -1}",
        "self_collision.friction", ">= 0"},
       {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\nself_collision: {enabled: maybe}",

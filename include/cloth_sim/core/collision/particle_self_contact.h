@@ -1,6 +1,8 @@
-/// @file self_contact.h
-/// Contact of a cloth with itself: particles that are not mesh neighbours keep at least a
-/// thickness apart (docs/method.md, "Self-contact").
+/// @file particle_self_contact.h
+/// Self-contact mode `particles`: particles that are not mesh neighbours keep at least a
+/// thickness apart, which needs a thickness of about the particle spacing (docs/method.md,
+/// "Self-contact", "The particle mode"). The cheap mode, kept for comparison with the triangle
+/// mode (triangle_self_contact.h).
 #pragma once
 
 #include <utility>
@@ -13,21 +15,6 @@
 #include "cloth_sim/core/linalg/types.h"
 
 namespace cloth_sim {
-
-/// The scene's self_collision option (docs/scene_format.md). Off unless a scene asks.
-struct SelfContactSettings {
-  bool enabled = false;
-  /// Contact distance t (m) between two particles that are not mesh neighbours; 0 = automatic,
-  /// the cloth's mean rest edge length (settings::kSelfThickness). It must be at least about the
-  /// particle spacing s (t >= 0.82 s keeps layers t/2 apart; docs/method.md, "Self-contact").
-  double thickness = 0.0;
-  /// Coulomb coefficient mu of cloth on cloth (settings::kSelfFriction): the tangential slide of
-  /// two particles in contact is cut by mu times the normal correction.
-  double friction = 0.3;
-
-  /// Throws std::invalid_argument "self_collision.<field> = <value> must be <rule>".
-  void validate() const;
-};
 
 /// Particle-particle self-contact by projection (Muller et al. 2007 "Position based dynamics",
 /// with the thickness of Macklin et al. 2014 "Unified particle physics", section 7.1), run after
@@ -47,14 +34,23 @@ struct SelfContactSettings {
 ///    d = min(t, 0.8 rest distance), so a compressed cloth does not push itself apart.
 ///
 /// Velocities get the change of position over h, so they stay consistent with the positions.
-class SelfContact {
+class ParticleSelfContact {
  public:
-  /// @p triangles: the cloth's triangles (mesh neighbours are never in contact); @p rest: rest
-  /// positions (m), which give the automatic thickness and the rest distance of each pair.
-  SelfContact(const Eigen::Matrix3Xi& triangles, const Points& rest,
-              const SelfContactSettings& settings);
+  /// The thinnest t (m) this mode keeps a cloth from crossing itself: 1.05 x the widest hole of
+  /// the rest triangles (the point of a triangle farthest from its corners: the circumcentre of
+  /// an acute triangle, the midpoint of the longest side of an obtuse one; s / sqrt 2 on a
+  /// square grid of spacing s). Why: a particle resting on a layer sits sqrt(t^2 - R^2) above
+  /// its hole of radius R, and the bound lets two particles approach by 0.6 t per substep, so
+  /// crossing unseen needs 2 sqrt(t^2 - R^2) <= 0.6 t, i.e. R >= 0.954 t.
+  static double minimumThickness(const Eigen::Matrix3Xi& triangles, const Points& rest);
 
-  /// The contact distance t in use (m): the setting, or the mean rest edge length.
+  /// @p triangles: the cloth's triangles (mesh neighbours are never in contact); @p rest: rest
+  /// positions (m), which give the rest distance of each pair; @p thickness: t (m, > 0);
+  /// @p friction: Coulomb mu (>= 0). Throws std::invalid_argument for a vertex out of range.
+  ParticleSelfContact(const Eigen::Matrix3Xi& triangles, const Points& rest, double thickness,
+                      double friction);
+
+  /// The contact distance t in use (m).
   double thickness() const { return thickness_; }
   double friction() const { return friction_; }
   /// Largest displacement (m) of a particle in one substep: 0.3 t.

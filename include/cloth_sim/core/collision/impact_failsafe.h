@@ -1,0 +1,53 @@
+/// @file impact_failsafe.h
+/// The impact stage of triangle self-contact: continuous collision detection of every candidate
+/// pair over the substep's motion (start to end, straight lines) and a fail-safe that shortens
+/// the motion of the particles involved until no pair comes closer than its minimum distance,
+/// so that a cloth free of intersections at the start of a substep is free of them at its end
+/// (docs/method.md, "Self-contact").
+#pragma once
+
+#include <vector>
+
+#include "cloth_sim/core/collision/colliders.h"
+#include "cloth_sim/core/collision/proximity_projection.h"
+#include "cloth_sim/core/linalg/types.h"
+
+namespace cloth_sim {
+
+/// What stopImpacts did.
+struct ImpactReport {
+  int tests = 0;        ///< pairs run through additive CCD (the others were cleared at once)
+  int hits = 0;         ///< pair impacts found, summed over the rounds
+  int rounds = 0;       ///< rounds of detection that found impacts
+  int shortened = 0;    ///< particles whose motion was shortened (or stopped)
+  /// Pairs still colliding at the end: only possible when the motion that collides belongs to
+  /// hard-pinned particles, which the fail-safe cannot stop. 0 guarantees the substep crossed
+  /// nothing.
+  int unresolved = 0;
+  /// Pairs touching at the start (closer than 4e-9 t): no side to keep, so not tested; the
+  /// caller must check the end for intersections.
+  int touching = 0;
+};
+
+/// Minimum distance (m) the impact stage keeps for a pair @p start_distance apart at the start
+/// of the substep, for a cloth of thickness @p thickness: 0.1 t, or a quarter of the start
+/// distance for a pair closer than 0.4 t (never below what it starts at, so a pair that does not
+/// move relative to itself is never an impact).
+inline double impactDistance(double thickness, double start_distance) {
+  return std::min(0.1 * thickness, 0.25 * start_distance);
+}
+
+/// Detects the impacts of @p contacts (those with @p skip[i] false) over the motion from
+/// @p step.start to @p end by additive CCD (additive_ccd.h) down to impactDistance, and removes
+/// them. Each round, every pair that collides shortens the motion of its movable particles to
+/// the time it is proven safe (x_start + s (x_end - x_start), s the pair's safe time: its own
+/// motion becomes a prefix of the colliding one); the next round tests again the pairs whose
+/// particles changed. After @p scaled_rounds rounds, colliding pairs stop their movable
+/// particles outright (s = 0); the stopped set only grows, so the rounds end. Motions stay on the
+/// straight paths the broad phase bounded, so no new candidate can appear. Velocities are left
+/// to the caller.
+ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
+                         const CollisionStep& step, double thickness, int scaled_rounds,
+                         Points& end);
+
+}  // namespace cloth_sim

@@ -1,0 +1,99 @@
+/// @file triangle_self_contact.h
+/// Self-contact of a cloth between its triangles and edges, at any thickness: proximity
+/// (vertex-triangle and edge-edge pairs pushed to the thickness, with friction), continuous
+/// detection of every impact over the substep with a fail-safe that stops it, and the untangling
+/// of a cloth that already passes through itself (docs/method.md, "Self-contact").
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include "cloth_sim/core/collision/colliders.h"
+#include "cloth_sim/core/collision/impact_failsafe.h"
+#include "cloth_sim/core/collision/pair_search.h"
+#include "cloth_sim/core/collision/proximity_projection.h"
+#include "cloth_sim/core/collision/surface_topology.h"
+#include "cloth_sim/core/collision/triangle_intersection.h"
+#include "cloth_sim/core/linalg/types.h"
+
+namespace cloth_sim {
+
+/// What one substep of TriangleSelfContact did (or, summed, a run).
+struct TriangleContactStats {
+  long triangle_pairs = 0;  ///< pairs of triangles whose boxes overlap in the broad phase
+  long candidates = 0;    ///< vertex-triangle and edge-edge pairs from the broad phase
+  long proximity = 0;     ///< pairs near contact, given to the proximity stage
+  long corrections = 0;   ///< proximity corrections made (over the sweeps)
+  long impact_tests = 0;  ///< pairs run through additive CCD
+  long impacts = 0;       ///< impacts found and stopped
+  long shortened = 0;     ///< particles whose motion the fail-safe shortened
+  long unresolved = 0;    ///< impacts left (pinned motion): the cloth may cross itself
+  long tangled_pairs = 0; ///< intersecting triangle pairs at the start of the substep
+  long crossings = 0;     ///< edge-triangle crossings the untangling moved
+  long searches = 0;      ///< broad-phase runs (1 per substep, 2 when the proximity moved far)
+  void add(const TriangleContactStats& s);
+};
+
+/// Triangle self-contact (Bridson, Fedkiw and Anderson 2002, "Robust treatment of collisions,
+/// contact and friction for cloth animation", with additive CCD from Li, Kaufman and Jiang 2021,
+/// "Codimensional Incremental Potential Contact", and intersection contour minimization from
+/// Volino and Magnenat-Thalmann 2006), run after the solve and the colliders in each substep:
+///
+/// 0. Untangling: unless the substep starts where the last one ended with its result proven
+///    free of intersections, the start is checked (IntersectionCounter); intersecting triangles
+///    get the contour minimization displacement (contour_untangling.h) and pairs between their
+///    vertices are left out of the stages below, which would otherwise hold the crossing.
+/// 1. Broad phase (PairSearch): pairs whose swept boxes come within t + 0.5 t.
+/// 2. Proximity (projectProximity): each pair's closest points and normal at the start; a pair
+///    near contact at the end and at least t apart on the cloth at rest is kept
+///    d = min(t, 0.8 x its rest distance) apart along that normal, with Coulomb friction; four
+///    Gauss-Seidel sweeps, the ground clamped after each.
+/// 3. Impacts (stopImpacts): additive CCD of every pair over start -> end down to
+///    impactDistance, and the fail-safe that shortens colliding motions (4 scaled rounds, then
+///    stops). A substep that starts free of intersections ends free of them, unless a
+///    hard-pinned particle is driven through the cloth (then the next substep untangles).
+///
+/// Velocities get the change of position of stages 2 and 3 over h (the untangling moves
+/// positions only, adding no energy).
+class TriangleSelfContact {
+ public:
+  /// @p triangles: the cloth's triangles; @p rest: rest positions (m); @p thickness: t (m, > 0);
+  /// @p friction: Coulomb mu (>= 0).
+  TriangleSelfContact(const Eigen::Matrix3Xi& triangles, const Points& rest, double thickness,
+                      double friction);
+
+  double thickness() const { return thickness_; }
+  /// See the class. Returns the particles moved (untangling included).
+  int resolve(const CollisionStep& step, const GroundPlane& ground, Points& end,
+              Points& velocities);
+
+  const TriangleContactStats& lastStats() const { return last_; }
+  const TriangleContactStats& totalStats() const { return total_; }
+  const SurfaceTopology& topology() const { return topology_; }
+  /// Smallest distance (m) between a vertex and a triangle, or two edges, sharing no vertex and
+  /// at least t apart at rest, among the pairs within @p cap (m) at @p x; @p cap if none (for
+  /// tests: the layers' separation).
+  double minPairDistance(const Points& x, double cap);
+
+ private:
+  /// Lists the broad phase's pairs for the motion start -> end with their start geometry.
+  void findContacts(const CollisionStep& step, const Points& end);
+  /// The pair's distance on the cloth at rest (m).
+  double restDistance(const PairCandidate& pair) const;
+
+  SurfaceTopology topology_;
+  Points rest_;
+  PairSearch search_;
+  double thickness_ = 0.0, friction_ = 0.0, untangle_step_ = 0.0;
+  IntersectionCounter counter_;
+  std::vector<PairCandidate> candidates_;
+  std::vector<PairContact> contacts_;
+  std::vector<int> active_;
+  std::vector<char> skip_, tangled_vertex_;
+  std::vector<std::pair<int, int>> tangled_;
+  Points last_end_, before_, untangle_;
+  bool verified_ = false;  ///< last_end_ is proven free of intersections
+  TriangleContactStats last_, total_;
+};
+
+}  // namespace cloth_sim

@@ -1,0 +1,91 @@
+#include "cloth_sim/core/collision/impact_failsafe.h"
+
+#include <algorithm>
+
+#include "cloth_sim/core/collision/additive_ccd.h"
+
+namespace cloth_sim {
+namespace {
+
+/// Safe time of contact @p c over the motion start -> end; 1 when it cannot collide.
+CcdResult safeTime(const PairContact& c, const Points& start, const Points& end,
+                   double thickness, int& tests) {
+  const double min_distance = impactDistance(thickness, c.start_distance);
+  // Touching at the start (to rounding): no side to keep, nothing to stop. stopImpacts counts
+  // it, and the caller checks the end for intersections (the untangling answers for them).
+  if (!(min_distance > 1e-9 * thickness)) return CcdResult{};
+  PairPoints x0, motion;
+  double side[2] = {0.0, 0.0};  // the largest motion on each side, for a first cheap test
+  for (int k = 0; k < 4; ++k) {
+    const int v = c.pair.v[k];
+    x0[k] = start.col(v);
+    motion[k] = end.col(v) - start.col(v);
+    const int s = (c.pair.kind == PairKind::kVertexTriangle ? k >= 1 : k >= 2) ? 1 : 0;
+    side[s] = std::max(side[s], motion[k].norm());
+  }
+  // Without removing the common motion: the gap closes by at most the two sides' motions.
+  if (c.start_distance - min_distance > side[0] + side[1]) return CcdResult{};
+  ++tests;
+  return additiveCcd(c.pair.kind, x0, motion, min_distance);
+}
+
+}  // namespace
+
+ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
+                         const CollisionStep& step, double thickness, int scaled_rounds,
+                         Points& end) {
+  ImpactReport report;
+  const Points& start = step.start;
+  const int n = static_cast<int>(end.cols());
+  std::vector<double> scale;                   // this round's scale of each particle's motion
+  std::vector<char> changed(n, 1), shortened(n, 0), next_changed(n, 0);
+  std::vector<int> touched;
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    if (!skip[i] && !(impactDistance(thickness, contacts[i].start_distance) > 1e-9 * thickness)) {
+      ++report.touching;
+    }
+  }
+  for (int round = 0;; ++round) {
+    const bool stop_outright = round >= scaled_rounds;
+    scale.assign(n, 1.0);
+    touched.clear();
+    int hits = 0;
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+      if (skip[i]) continue;
+      const PairContact& c = contacts[i];
+      const auto& v = c.pair.v;
+      if (!(changed[v[0]] || changed[v[1]] || changed[v[2]] || changed[v[3]])) continue;
+      const CcdResult ccd = safeTime(c, start, end, thickness, report.tests);
+      if (ccd.safe_time >= 1.0) continue;
+      ++hits;
+      const double s = stop_outright ? 0.0 : ccd.safe_time;
+      for (int k = 0; k < 4; ++k) {
+        if (!step.movable[v[k]]) continue;
+        if (scale[v[k]] == 1.0) touched.push_back(v[k]);
+        scale[v[k]] = std::min(scale[v[k]], s);
+      }
+    }
+    if (hits == 0) break;
+    ++report.rounds;
+    report.hits += hits;
+    std::fill(next_changed.begin(), next_changed.end(), 0);
+    int moved = 0;
+    for (int v : touched) {
+      const Vec3 motion = end.col(v) - start.col(v);
+      if (scale[v] >= 1.0 || motion.isZero(0.0)) continue;
+      end.col(v) = start.col(v) + scale[v] * motion;
+      next_changed[v] = 1;
+      shortened[v] = 1;
+      ++moved;
+    }
+    if (moved == 0) {  // every colliding pair is stopped or pinned: nothing left to shorten
+      report.unresolved = hits;
+      break;
+    }
+    changed.swap(next_changed);
+  }
+  report.shortened = static_cast<int>(std::count(shortened.begin(), shortened.end(), 1));
+  return report;
+}
+
+}  // namespace cloth_sim

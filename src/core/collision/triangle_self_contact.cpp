@@ -1,0 +1,178 @@
+#include "cloth_sim/core/collision/triangle_self_contact.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "cloth_sim/core/collision/contour_untangling.h"
+
+namespace cloth_sim {
+namespace {
+
+/// Skin of the broad phase (fraction of t): pairs within t + skin of each other are listed, so
+/// that the proximity stage's own moves (up to (t + skin - 0.1 t) / 2 = 0.7 t, the impact
+/// stage's check) stay covered by one search.
+constexpr double kSkin = 0.5;
+/// Pairs within this much (fraction of t) of their contact distance at the end of the solve
+/// enter the proximity sweeps: pushes during the sweeps rarely close more.
+constexpr double kNear = 0.5;
+constexpr int kSweeps = 4;
+constexpr int kScaledRounds = 4;
+
+PairPoints pairPoints(const PairCandidate& pair, const Points& x) {
+  return {x.col(pair.v[0]), x.col(pair.v[1]), x.col(pair.v[2]), x.col(pair.v[3])};
+}
+
+}  // namespace
+
+void TriangleContactStats::add(const TriangleContactStats& s) {
+  triangle_pairs += s.triangle_pairs;
+  candidates += s.candidates;
+  proximity += s.proximity;
+  corrections += s.corrections;
+  impact_tests += s.impact_tests;
+  impacts += s.impacts;
+  shortened += s.shortened;
+  unresolved += s.unresolved;
+  tangled_pairs += s.tangled_pairs;
+  crossings += s.crossings;
+  searches += s.searches;
+}
+
+TriangleSelfContact::TriangleSelfContact(const Eigen::Matrix3Xi& triangles, const Points& rest,
+                                         double thickness, double friction)
+    : topology_(triangles, static_cast<int>(rest.cols())),
+      rest_(rest),
+      search_(topology_, rest),
+      thickness_(thickness),
+      friction_(friction),
+      counter_(triangles) {
+  if (!(thickness > 0.0) || !(friction >= 0.0)) {
+    throw std::invalid_argument("self-contact: thickness must be > 0 and friction >= 0");
+  }
+  // Per substep, the untangling moves a particle at most a tenth of an edge: a contour crosses
+  // a triangle in about ten substeps, gently enough for the springs to follow.
+  untangle_step_ = 0.1 * topology_.meanEdgeLength(rest);
+}
+
+double TriangleSelfContact::restDistance(const PairCandidate& pair) const {
+  return closestPoints(pair.kind, pairPoints(pair, rest_)).distance;
+}
+
+void TriangleSelfContact::findContacts(const CollisionStep& step, const Points& end) {
+  const double t = thickness_;
+  search_.find(topology_, step.start, end, (1.0 + kSkin) * t, candidates_);
+  ++last_.searches;
+  last_.triangle_pairs += search_.trianglePairs();
+  last_.candidates += static_cast<long>(candidates_.size());
+  contacts_.resize(candidates_.size());
+  skip_.assign(candidates_.size(), 0);
+  const bool tangled = !tangled_.empty();
+  for (std::size_t i = 0; i < candidates_.size(); ++i) {
+    PairContact& c = contacts_[i];
+    c.pair = candidates_[i];
+    const ClosestPoints cp = closestPoints(c.pair.kind, pairPoints(c.pair, step.start));
+    c.weight = cp.weight;
+    c.start_distance = cp.distance;
+    c.contact_distance = 0.0;
+    c.normal.setZero();
+    if (cp.distance > 1e-9 * t) {
+      Vec3 gap = Vec3::Zero();
+      for (int k = 0; k < 4; ++k) gap += c.weight[k] * step.start.col(c.pair.v[k]);
+      c.normal = gap / cp.distance;
+    }
+    if (tangled) {  // both sides in the tangle: free to pass back through each other
+      const auto& v = c.pair.v;
+      const bool vt = c.pair.kind == PairKind::kVertexTriangle;
+      const bool first = tangled_vertex_[v[0]] || (!vt && tangled_vertex_[v[1]]);
+      const bool second =
+          tangled_vertex_[v[3]] || tangled_vertex_[v[2]] || (vt && tangled_vertex_[v[1]]);
+      skip_[i] = first && second;
+    }
+  }
+}
+
+int TriangleSelfContact::resolve(const CollisionStep& step, const GroundPlane& ground, Points& end,
+                                 Points& velocities) {
+  last_ = TriangleContactStats();
+  if (!end.allFinite()) return 0;  // the step's check rolls this frame back
+  const Points& start = step.start;
+  const int n = static_cast<int>(end.cols());
+  const double t = thickness_;
+
+  // 0. Tangles: checked unless this substep continues one proven free of them.
+  tangled_.clear();
+  if (!verified_ || last_end_.cols() != start.cols() || last_end_ != start) {
+    tangled_ = counter_.pairs(start);
+  }
+  int moved = 0;
+  if (!tangled_.empty()) {
+    last_.tangled_pairs = static_cast<long>(tangled_.size());
+    tangled_vertex_.assign(n, 0);
+    const Eigen::Matrix3Xi& tri = topology_.triangles();
+    for (const auto& [a, b] : tangled_) {
+      for (int k = 0; k < 3; ++k) tangled_vertex_[tri(k, a)] = tangled_vertex_[tri(k, b)] = 1;
+    }
+    last_.crossings =
+        contourDisplacement(topology_, start, tangled_, step.movable, untangle_step_, untangle_);
+    end += untangle_;
+    moved += static_cast<int>((untangle_.colwise().squaredNorm().array() > 0.0).count());
+  }
+  before_ = end;
+
+  // 1-2. Broad phase, then proximity for the pairs near contact.
+  findContacts(step, end);
+  active_.clear();
+  for (std::size_t i = 0; i < contacts_.size(); ++i) {
+    PairContact& c = contacts_[i];
+    if (skip_[i] || c.normal.isZero(0.0)) continue;
+    c.contact_distance = t;
+    if (proximityGap(c, end) >= kNear * t) {
+      c.contact_distance = 0.0;
+      continue;
+    }
+    // Pairs closer than t on the cloth at rest are the springs' business (as in the particle
+    // mode); the others get 20 % compression before they touch.
+    const double rest = restDistance(c.pair);
+    c.contact_distance = rest < t ? 0.0 : std::min(t, 0.8 * rest);
+    if (c.contact_distance > 0.0) active_.push_back(static_cast<int>(i));
+  }
+  last_.proximity = static_cast<long>(active_.size());
+  if (!active_.empty()) {
+    last_.corrections = projectProximity(contacts_, active_, step, ground, friction_, kSweeps, end);
+  }
+
+  // 3. Impacts. The search covered pairs within 1.5 t over start -> before_; a particle the
+  // proximity moved more than 0.7 t from before_ could meet one it did not list.
+  const double moved_far = (end - before_).colwise().squaredNorm().maxCoeff();
+  if (moved_far > 0.49 * t * t) findContacts(step, end);
+  const ImpactReport impacts = stopImpacts(contacts_, skip_, step, t, kScaledRounds, end);
+  last_.impact_tests = impacts.tests;
+  last_.impacts = impacts.hits;
+  last_.shortened = impacts.shortened;
+  last_.unresolved = impacts.unresolved;
+
+  for (int i = 0; i < n; ++i) {
+    const Vec3 delta = end.col(i) - before_.col(i);
+    if (delta.isZero(0.0)) continue;
+    velocities.col(i) += delta / step.h;
+    ++moved;
+  }
+  verified_ = tangled_.empty() && impacts.unresolved == 0 && impacts.touching == 0;
+  last_end_ = end;
+  total_.add(last_);
+  return moved;
+}
+
+double TriangleSelfContact::minPairDistance(const Points& x, double cap) {
+  std::vector<PairCandidate> pairs;
+  search_.find(topology_, x, x, cap, pairs);
+  double best = cap;
+  for (const PairCandidate& p : pairs) {
+    if (restDistance(p) < thickness_) continue;
+    best = std::min(best, closestPoints(p.kind, pairPoints(p, x)).distance);
+  }
+  return best;
+}
+
+}  // namespace cloth_sim

@@ -1,0 +1,198 @@
+// Triangle self-contact (triangle_self_contact.h) on two small sheets of one mesh: a sheet
+// thrown through another within one substep stops at the thickness, edges crossing edges are
+// caught, momentum is kept, pins and friction are respected, the impact stage's fail-safe and
+// the untangling of sheets that already cross.
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "cloth_sim/core/collision/impact_failsafe.h"
+#include "cloth_sim/core/collision/triangle_intersection.h"
+#include "cloth_sim/core/collision/triangle_self_contact.h"
+#include "cloth_sim/core/model/grid_builder.h"
+
+namespace cloth_sim {
+namespace {
+
+/// Two n x n sheets of side @p size in one mesh (vertices 0 .. n^2 - 1 the lower one), the upper
+/// one @p lift above the lower one and shifted by @p shift in x and y.
+struct TwoSheets {
+  Eigen::Matrix3Xi triangles;
+  Points rest;
+  int n2 = 0;
+  TwoSheets(int n, double size, double lift, double shift) {
+    GridSpec spec;
+    spec.rows = spec.cols = n;
+    spec.width = spec.height = size;
+    const BuiltObject g = buildGrid(spec);
+    n2 = n * n;
+    const Eigen::Index t = g.model.triangles.cols();
+    triangles.resize(3, 2 * t);
+    triangles << g.model.triangles, (g.model.triangles.array() + n2).matrix();
+    rest.resize(3, 2 * n2);
+    rest << g.rest_positions, (g.rest_positions.colwise() + Vec3(shift, shift, lift));
+  }
+};
+
+struct StepData {
+  Eigen::VectorXd mass;
+  std::vector<char> movable;
+  Points start;
+  StepData(const Points& s) : mass(Eigen::VectorXd::Constant(s.cols(), 0.01)), movable(s.cols(), 1), start(s) {}
+  CollisionStep step(double h) const { return CollisionStep{h, mass, movable, start}; }
+};
+
+TEST(TriangleSelfContact, SheetThrownThroughAnotherStopsAtTheThickness) {
+  const double t = 0.002;
+  const TwoSheets s(6, 0.1, 0.01, 0.013);  // the upper sheet 1 cm above, shifted off the grid
+  TriangleSelfContact contact(s.triangles, s.rest, t, 0.0);
+  StepData data(s.rest);
+  Points end = s.rest, v = Points::Zero(3, s.rest.cols());
+  for (int i = s.n2; i < 2 * s.n2; ++i) end(2, i) -= 0.05;  // 5 cm down in one substep
+  const Vec3 momentum = (end - s.rest).rowwise().sum();
+  contact.resolve(data.step(0.002), GroundPlane{}, end, v);
+  IntersectionCounter counter(s.triangles);
+  EXPECT_EQ(counter.count(end), 0);
+  const TriangleContactStats& st = contact.lastStats();
+  std::printf("thrown: %ld triangle pairs, %ld candidates, %ld proximity, %ld impacts\n",
+              st.triangle_pairs, st.candidates, st.proximity, st.impacts);
+  EXPECT_GT(st.proximity, 0);
+  // Equal masses share every push, so the momentum stays.
+  EXPECT_LT(((end - s.rest).rowwise().sum() - momentum).norm(), 1e-12);
+  // One plunge of 5 cm = 25 t leaves the sheets apart, and one substep at rest after it
+  // restores the thickness between them.
+  EXPECT_GE(contact.minPairDistance(end, 0.01), 0.1 * t);
+  StepData rest_step(end);
+  Points still = end;
+  contact.resolve(rest_step.step(0.002), GroundPlane{}, still, v);
+  EXPECT_EQ(counter.count(still), 0);
+  EXPECT_GE(contact.minPairDistance(still, 0.01), 0.9 * t);
+  // Velocities follow the positions' change over h.
+  EXPECT_GT(v.block(2, s.n2, 1, s.n2).maxCoeff(), 1.0);
+}
+
+TEST(TriangleSelfContact, PinnedSheetIsNotPushedAndTheOtherRestsOnIt) {
+  const double t = 0.003;
+  const TwoSheets s(5, 0.1, 0.004, 0.0);
+  TriangleSelfContact contact(s.triangles, s.rest, t, 0.3);
+  StepData data(s.rest);
+  for (int i = 0; i < s.n2; ++i) data.movable[i] = 0;
+  Points end = s.rest, v = Points::Zero(3, s.rest.cols());
+  for (int i = s.n2; i < 2 * s.n2; ++i) end(2, i) -= 0.006;  // 2 mm below the lower sheet
+  contact.resolve(data.step(0.002), GroundPlane{}, end, v);
+  for (int i = 0; i < s.n2; ++i) EXPECT_EQ(end.col(i), s.rest.col(i));
+  for (int i = s.n2; i < 2 * s.n2; ++i) EXPECT_NEAR(end(2, i), t, 1e-9) << i;
+}
+
+TEST(TriangleSelfContact, FrictionCutsTheSlide) {
+  const double t = 0.003;
+  for (const double mu : {0.0, 1.0}) {
+    const TwoSheets s(5, 0.1, 0.003, 0.0);
+    TriangleSelfContact contact(s.triangles, s.rest, t, mu);
+    StepData data(s.rest);
+    for (int i = 0; i < s.n2; ++i) data.movable[i] = 0;
+    Points end = s.rest, v = Points::Zero(3, s.rest.cols());
+    // The upper sheet slides 1 mm and is pushed 2 mm into the lower one.
+    for (int i = s.n2; i < 2 * s.n2; ++i) end.col(i) += Vec3(0.001, 0.0, -0.002);
+    contact.resolve(data.step(0.002), GroundPlane{}, end, v);
+    const double slide = (end.col(2 * s.n2 - 1) - s.rest.col(2 * s.n2 - 1)).x();
+    if (mu == 0.0) {
+      EXPECT_NEAR(slide, 0.001, 1e-9);
+    } else {
+      EXPECT_NEAR(slide, 0.0, 1e-9);  // 2 mm of push holds 1 mm of slide
+    }
+  }
+}
+
+TEST(TriangleSelfContact, EdgeDrivenThroughAnEdgeIsStopped) {
+  // Two long thin triangles crossing as an X, one above the other: the upper one's long edge is
+  // pulled down through the lower one's long edge while no vertex passes over a face.
+  Eigen::Matrix3Xi tri(3, 2);
+  tri << 0, 3, 1, 4, 2, 5;
+  Points rest(3, 6);
+  rest << -1, 1, 1, 0, 0.02, -0.02,  //
+      0, 0.02, -0.02, -1, 1, 1,      //
+      0, 0, 0, 0.01, 0.01, 0.01;
+  // Upper triangle (3, 4, 5): along y at z = 0.01; lower (0, 1, 2): along x at z = 0.
+  TriangleSelfContact contact(tri, rest, 0.001, 0.0);
+  StepData data(rest);
+  Points end = rest, v = Points::Zero(3, 6);
+  for (int i = 3; i < 6; ++i) end(2, i) -= 0.02;
+  contact.resolve(data.step(0.002), GroundPlane{}, end, v);
+  IntersectionCounter counter(tri);
+  EXPECT_EQ(counter.count(end), 0);
+  // Where the long edges cross in plan, the upper ones stay above the lower ones.
+  for (const int upper : {4, 5}) {
+    for (const int lower : {1, 2}) {
+      const ClosestPoints cp = segmentSegment(end.col(3), end.col(upper), end.col(0), end.col(lower));
+      EXPECT_GT(gapVector(cp, end.col(3), end.col(upper), end.col(0), end.col(lower)).z(), 0.0);
+    }
+  }
+}
+
+TEST(ImpactFailsafe, StopsCrossingsAndReportsWhatPinsDrive) {
+  const TwoSheets s(4, 0.1, 0.005, 0.011);
+  SurfaceTopology topology(s.triangles, static_cast<int>(s.rest.cols()));
+  PairSearch search(topology, s.rest);
+  StepData data(s.rest);
+  Points end = s.rest;
+  for (int i = s.n2; i < 2 * s.n2; ++i) end(2, i) -= 0.02;  // straight through
+  std::vector<PairCandidate> pairs;
+  search.find(topology, s.rest, end, 0.001, pairs);
+  std::vector<PairContact> contacts(pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    contacts[k].pair = pairs[k];
+    PairPoints x;
+    for (int j = 0; j < 4; ++j) x[j] = s.rest.col(pairs[k].v[j]);
+    contacts[k].start_distance = closestPoints(pairs[k].kind, x).distance;
+  }
+  const std::vector<char> skip(contacts.size(), 0);
+  IntersectionCounter counter(s.triangles);
+  Points free_end = end;
+  ImpactReport r = stopImpacts(contacts, skip, data.step(0.002), 0.002, 4, free_end);
+  EXPECT_GT(r.hits, 0);
+  EXPECT_EQ(r.unresolved, 0);
+  EXPECT_EQ(counter.count(free_end), 0);
+  // The upper sheet hard-pinned and driven through: nothing movable can stop it.
+  for (int i = s.n2; i < 2 * s.n2; ++i) data.movable[i] = 0;
+  Points pinned_end = end;
+  r = stopImpacts(contacts, skip, data.step(0.002), 0.002, 4, pinned_end);
+  EXPECT_GT(r.unresolved, 0);
+}
+
+TEST(TriangleSelfContact, SheetsThatCrossAreUntangled) {
+  // The upper sheet tilted through the lower one: the two cross along a line. With no other
+  // motion, the contour minimization pulls them apart within some substeps.
+  const double t = 0.002;
+  TwoSheets s(8, 0.1, 0.0, 0.02);
+  for (int i = s.n2; i < 2 * s.n2; ++i) s.rest(2, i) = 0.3 * (s.rest(0, i) - 0.02);
+  IntersectionCounter counter(s.triangles);
+  const int tangled = counter.count(s.rest);
+  ASSERT_GT(tangled, 0);
+  TriangleSelfContact contact(s.triangles, s.rest, t, 0.3);
+  Points x = s.rest, v = Points::Zero(3, s.rest.cols());
+  int substeps = 0;
+  while (counter.count(x) > 0 && substeps < 400) {
+    StepData data(x);
+    Points end = x;
+    contact.resolve(data.step(0.002), GroundPlane{}, end, v);
+    x = end;
+    ++substeps;
+  }
+  std::printf("%d intersecting pairs untangled in %d substeps\n", tangled, substeps);
+  EXPECT_EQ(counter.count(x), 0);
+  EXPECT_LT(substeps, 400);
+  // Once free, it stays free and keeps its distance.
+  for (int k = 0; k < 20; ++k) {
+    StepData data(x);
+    Points end = x;
+    contact.resolve(data.step(0.002), GroundPlane{}, end, v);
+    x = end;
+    EXPECT_EQ(counter.count(x), 0);
+  }
+  EXPECT_EQ(contact.lastStats().tangled_pairs, 0);
+}
+
+}  // namespace
+}  // namespace cloth_sim
