@@ -31,9 +31,51 @@ CcdResult safeTime(const PairContact& c, const Points& start, const Points& end,
 
 }  // namespace
 
+ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
+                         const CollisionStep& step, const GroundPlane& ground, double thickness,
+                         int rounds, Points& end, Points* carry) {
+  ImpactReport report;
+  const Points& start = step.start;
+  const int n = static_cast<int>(end.cols());
+  std::vector<char> changed(n, 1), next_changed(n, 0);
+  for (int round = 0; round < rounds; ++round) {
+    std::fill(next_changed.begin(), next_changed.end(), 0);
+    int hits = 0;
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+      if (skip[i]) continue;
+      const PairContact& c = contacts[i];
+      const auto& v = c.pair.v;
+      if (!(changed[v[0]] || changed[v[1]] || changed[v[2]] || changed[v[3]])) continue;
+      const CcdResult ccd = safeTime(c, start, end, thickness, report.tests);
+      if (ccd.safe_time >= 1.0) continue;
+      ++hits;
+      // The closest points where the pair stops: their direction is the side to keep.
+      PairPoints at;
+      for (int k = 0; k < 4; ++k) {
+        at[k] = start.col(v[k]) + ccd.safe_time * (end.col(v[k]) - start.col(v[k]));
+      }
+      const ClosestPoints cp = closestPoints(c.pair.kind, at);
+      if (!(cp.distance > 0.0)) continue;
+      const Vec3 normal = gapVector(cp, at[0], at[1], at[2], at[3]) / cp.distance;
+      Vec3 g = Vec3::Zero();
+      for (int k = 0; k < 4; ++k) g += cp.weight[k] * end.col(v[k]);
+      const double gap = normal.dot(g) - 0.5 * thickness;
+      if (gap >= 0.0) continue;  // apart at the end: it went round; the fail-safe decides
+      if (pushApart(v, cp.weight, normal, gap, step, ground, 0.0, end, carry)) {
+        for (int k = 0; k < 4; ++k) next_changed[v[k]] = 1;
+      }
+    }
+    report.hits += hits;
+    if (hits == 0) break;
+    ++report.rounds;
+    changed.swap(next_changed);
+  }
+  return report;
+}
+
 ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
                          const CollisionStep& step, double thickness, int scaled_rounds,
-                         Points& end) {
+                         Points& end, Points* carry) {
   ImpactReport report;
   const Points& start = step.start;
   const int n = static_cast<int>(end.cols());
@@ -73,7 +115,9 @@ ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::ve
     for (int v : touched) {
       const Vec3 motion = end.col(v) - start.col(v);
       if (scale[v] >= 1.0 || motion.isZero(0.0)) continue;
-      end.col(v) = start.col(v) + scale[v] * motion;
+      const Vec3 to = start.col(v) + scale[v] * motion;
+      if (carry != nullptr) carry->col(v) += to - end.col(v);
+      end.col(v) = to;
       next_changed[v] = 1;
       shortened[v] = 1;
       ++moved;

@@ -16,8 +16,10 @@ constexpr double kSkin = 0.5;
 /// Pairs within this much (fraction of t) of their contact distance at the end of the solve
 /// enter the proximity sweeps: pushes during the sweeps rarely close more.
 constexpr double kNear = 0.5;
-constexpr int kSweeps = 4;
+/// Gauss-Seidel sweeps of the proximity stage at most (they stop when no pair is pushed).
+constexpr int kSweeps = 6;
 constexpr int kScaledRounds = 4;
+constexpr int kPushRounds = 3;
 
 PairPoints pairPoints(const PairCandidate& pair, const Points& x) {
   return {x.col(pair.v[0]), x.col(pair.v[1]), x.col(pair.v[2]), x.col(pair.v[3])};
@@ -31,6 +33,7 @@ void TriangleContactStats::add(const TriangleContactStats& s) {
   proximity += s.proximity;
   corrections += s.corrections;
   impact_tests += s.impact_tests;
+  pushed += s.pushed;
   impacts += s.impacts;
   shortened += s.shortened;
   unresolved += s.unresolved;
@@ -119,6 +122,7 @@ int TriangleSelfContact::resolve(const CollisionStep& step, const GroundPlane& g
     moved += static_cast<int>((untangle_.colwise().squaredNorm().array() > 0.0).count());
   }
   before_ = end;
+  carry_ = end;
 
   // 1-2. Broad phase, then proximity for the pairs near contact.
   findContacts(step, end);
@@ -139,23 +143,26 @@ int TriangleSelfContact::resolve(const CollisionStep& step, const GroundPlane& g
   }
   last_.proximity = static_cast<long>(active_.size());
   if (!active_.empty()) {
-    last_.corrections = projectProximity(contacts_, active_, step, ground, friction_, kSweeps, end);
+    last_.corrections = projectProximity(contacts_, active_, step, ground, friction_, kSweeps, end,
+                                         &carry_);
   }
 
-  // 3. Impacts. The search covered pairs within 1.5 t over start -> before_; a particle the
-  // proximity moved more than 0.7 t from before_ could meet one it did not list.
+  // 3. Impacts: pushed apart where they happen, then the fail-safe. The search covered pairs
+  // within 1.5 t over start -> before_; a particle the stages moved more than 0.7 t from
+  // before_ could meet one it did not list, so the fail-safe then gets a new search.
+  const ImpactReport pushed = pushImpacts(contacts_, skip_, step, ground, t, kPushRounds, end, &carry_);
   const double moved_far = (end - before_).colwise().squaredNorm().maxCoeff();
   if (moved_far > 0.49 * t * t) findContacts(step, end);
-  const ImpactReport impacts = stopImpacts(contacts_, skip_, step, t, kScaledRounds, end);
-  last_.impact_tests = impacts.tests;
+  const ImpactReport impacts = stopImpacts(contacts_, skip_, step, t, kScaledRounds, end, &carry_);
+  last_.impact_tests = pushed.tests + impacts.tests;
+  last_.pushed = pushed.hits;
   last_.impacts = impacts.hits;
   last_.shortened = impacts.shortened;
   last_.unresolved = impacts.unresolved;
 
   for (int i = 0; i < n; ++i) {
-    const Vec3 delta = end.col(i) - before_.col(i);
-    if (delta.isZero(0.0)) continue;
-    velocities.col(i) += delta / step.h;
+    if (end.col(i) == before_.col(i)) continue;
+    velocities.col(i) += (carry_.col(i) - before_.col(i)) / step.h;
     ++moved;
   }
   verified_ = tangled_.empty() && impacts.unresolved == 0 && impacts.touching == 0;

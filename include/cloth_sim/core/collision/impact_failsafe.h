@@ -37,6 +37,21 @@ inline double impactDistance(double thickness, double start_distance) {
   return std::min(0.1 * thickness, 0.25 * start_distance);
 }
 
+/// The impact response before the fail-safe (Bridson, Fedkiw and Anderson 2002, section 7.2,
+/// as position corrections): each pair of @p contacts (those with @p skip[i] false) whose
+/// motion from @p step.start to @p end comes closer than impactDistance (additive CCD) is
+/// pushed apart at the end to half the thickness along the direction between its closest
+/// points at the time of impact (pushApart: linear momentum kept, the ground holding what lies
+/// on it); the next of @p rounds tests the pairs whose particles moved. The pushes keep the
+/// motion a collision leaves (the slide along the contact) where the fail-safe would stop it,
+/// and put the pair back at a distance from which the next substep's impact distance does not
+/// shrink. Pushed particles may leave the broad phase's boxes: the caller searches again when
+/// they moved far. @p carry as in pushApart. Returns the report (hits and tests; nothing is
+/// shortened).
+ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
+                         const CollisionStep& step, const GroundPlane& ground, double thickness,
+                         int rounds, Points& end, Points* carry);
+
 /// Detects the impacts of @p contacts (those with @p skip[i] false) over the motion from
 /// @p step.start to @p end by additive CCD (additive_ccd.h) down to impactDistance, and removes
 /// them. Each round, every pair that collides shortens the motion of its movable particles to
@@ -44,10 +59,10 @@ inline double impactDistance(double thickness, double start_distance) {
 /// motion becomes a prefix of the colliding one); the next round tests again the pairs whose
 /// particles changed. After @p scaled_rounds rounds, colliding pairs stop their movable
 /// particles outright (s = 0); the stopped set only grows, so the rounds end. Motions stay on the
-/// straight paths the broad phase bounded, so no new candidate can appear. Velocities are left
-/// to the caller.
+/// straight paths the broad phase bounded, so no new candidate can appear. Each change of an
+/// end position is made to @p carry too (if given; see pushApart).
 ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
                          const CollisionStep& step, double thickness, int scaled_rounds,
-                         Points& end);
+                         Points& end, Points* carry);
 
 }  // namespace cloth_sim

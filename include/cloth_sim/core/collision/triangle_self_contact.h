@@ -25,7 +25,8 @@ struct TriangleContactStats {
   long proximity = 0;     ///< pairs near contact, given to the proximity stage
   long corrections = 0;   ///< proximity corrections made (over the sweeps)
   long impact_tests = 0;  ///< pairs run through additive CCD
-  long impacts = 0;       ///< impacts found and stopped
+  long pushed = 0;        ///< impacts pushed apart (summed over the rounds)
+  long impacts = 0;       ///< impacts the fail-safe found and stopped
   long shortened = 0;     ///< particles whose motion the fail-safe shortened
   long unresolved = 0;    ///< impacts left (pinned motion): the cloth may cross itself
   long tangled_pairs = 0; ///< intersecting triangle pairs at the start of the substep
@@ -53,8 +54,9 @@ struct TriangleContactStats {
 ///    stops). A substep that starts free of intersections ends free of them, unless a
 ///    hard-pinned particle is driven through the cloth (then the next substep untangles).
 ///
-/// Velocities get the change of position of stages 2 and 3 over h (the untangling moves
-/// positions only, adding no energy).
+/// Velocities get the change of position of stages 2 and 3 over h, except the part of a push
+/// that restores the thickness of a pair already too close (pushApart): that one, and the
+/// untangling, move positions only, adding no energy.
 class TriangleSelfContact {
  public:
   /// @p triangles: the cloth's triangles; @p rest: rest positions (m); @p thickness: t (m, > 0);
@@ -91,7 +93,7 @@ class TriangleSelfContact {
   std::vector<int> active_;
   std::vector<char> skip_, tangled_vertex_;
   std::vector<std::pair<int, int>> tangled_;
-  Points last_end_, before_, untangle_;
+  Points last_end_, before_, carry_, untangle_;
   bool verified_ = false;  ///< last_end_ is proven free of intersections
   TriangleContactStats last_, total_;
 };
