@@ -95,7 +95,8 @@ if(CATKIN_ENABLE_TESTING)
     collision/dynamic_spheres_test collision/contact_random_test
     collision/cell_hash_test collision/triangle_intersection_test collision/self_contact_test
     collision/particle_self_contact_test collision/primitive_distance_test collision/additive_ccd_test
-    collision/triangle_self_contact_test
+    collision/triangle_self_contact_test collision/self_contact_thin_scenes_test
+    collision/self_contact_untangle_test
     collision/self_contact_scenes_test
     solvers/implicit_euler_problem_test solvers/newton_solver_test solvers/revision_cache_test
     solvers/bdf2_test solvers/midpoint_test solvers/midpoint_safeguard_test solvers/registry_test

@@ -1,6 +1,7 @@
 // Self-contact in whole scenes (docs/testing.md, "Self-contact"): the shipped fold and pile
-// scenes, a randomized set of folds and drops (fixed, printed seeds), and the option off giving
-// bit-identical trajectories. Every step must leave no intersecting pair of non-adjacent
+// scenes (mode triangles, 3 mm thick), the particle mode's randomized set of folds and drops
+// (fixed, printed seeds; the triangle mode's own set is self_contact_thin_scenes_test), the
+// option off giving bit-identical trajectories, and the recovery from tangles. Every step must leave no intersecting pair of non-adjacent
 // triangles (IntersectionCounter), and at rest no particle may be closer than t/2 to a triangle
 // of another layer (a triangle whose vertices are all more than 2 t away from it on the cloth
 // at rest, so that the bend of a fold does not count as two layers).
@@ -116,10 +117,14 @@ TEST(SelfContactScenes, FoldLeavesTwoLayersApartWithoutIntersecting) {
   const int corner = sim.pins().pins().front().vertex, opposite = sim.model().particleCount() - 1;
   const RunResult r = run(sim, pin, opposite, 0.35, 90, 90);  // 1.5 s fold, 1.5 s to settle
   expectClean(r, "fold");
-  // It did fold: the corner lies on the opposite corner, one layer up.
-  const Vec3 c = sim.state().positions.col(corner), o = sim.state().positions.col(opposite);
+  // It did fold: the corner came down by the opposite corner, and about half the cloth lies
+  // one layer up (at 3 mm the corner itself may slip off the lower layer's edge onto the floor).
+  const Points& x = sim.state().positions;
+  const Vec3 c = x.col(corner), o = x.col(opposite);
   EXPECT_LT((c - o).head<2>().norm(), 0.15);
-  EXPECT_GT(c.z() - o.z(), 0.5 * r.thickness);
+  const double upper = (x.row(2).array() > 0.5 * r.thickness).cast<double>().mean();
+  std::printf("fold: %.0f %% of the particles lie on the other layer\n", 100.0 * upper);
+  EXPECT_GT(upper, 0.3);
 }
 
 TEST(SelfContactScenes, PileFallsInFoldsWithoutIntersecting) {
@@ -206,7 +211,8 @@ std::string randomScene(std::mt19937& rng, bool pile, double& thickness) {
     y << "cloth:\n  grid: {rows: " << n << ", cols: " << n << ", size: [" << size << ", " << size
       << "]}\npins:\n  - {row: 0, col: 0}\n";
   }
-  y << "self_collision: {thickness: " << thickness << ", friction: " << 0.5 * u(rng) << "}\n";
+  y << "self_collision: {mode: particles, thickness: " << thickness << ", friction: "
+    << 0.5 * u(rng) << "}\n";
   return y.str();
 }
 

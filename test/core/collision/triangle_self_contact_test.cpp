@@ -150,14 +150,14 @@ TEST(ImpactFailsafe, StopsCrossingsAndReportsWhatPinsDrive) {
   const std::vector<char> skip(contacts.size(), 0);
   IntersectionCounter counter(s.triangles);
   Points free_end = end;
-  ImpactReport r = stopImpacts(contacts, skip, data.step(0.002), 0.002, 4, free_end);
+  ImpactReport r = stopImpacts(contacts, skip, data.step(0.002), 0.002, 4, free_end, nullptr);
   EXPECT_GT(r.hits, 0);
   EXPECT_EQ(r.unresolved, 0);
   EXPECT_EQ(counter.count(free_end), 0);
   // The upper sheet hard-pinned and driven through: nothing movable can stop it.
   for (int i = s.n2; i < 2 * s.n2; ++i) data.movable[i] = 0;
   Points pinned_end = end;
-  r = stopImpacts(contacts, skip, data.step(0.002), 0.002, 4, pinned_end);
+  r = stopImpacts(contacts, skip, data.step(0.002), 0.002, 4, pinned_end, nullptr);
   EXPECT_GT(r.unresolved, 0);
 }
 
