@@ -1,6 +1,8 @@
 #include "cloth_sim/core/collision/pair_search.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace cloth_sim {
@@ -9,6 +11,8 @@ namespace {
 /// cos 60 deg: a node is flat when every normal over the substep is within 60 degrees of its
 /// normal box's centre direction.
 constexpr double kFlatCosine = 0.5;
+/// Triangles per leaf at most: the last levels of the tree cost more to walk than to test.
+constexpr int kLeafSize = 4;
 
 /// Adds unit(@p n) to @p box (a zero vector adds nothing).
 void extendUnit(Eigen::AlignedBox3d& box, const Vec3& n) {
@@ -28,6 +32,25 @@ bool flat(const Eigen::AlignedBox3d& normals) {
 
 }  // namespace
 
+PairSearch::FloatBox PairSearch::FloatBox::outside(const Eigen::AlignedBox3d& box) {
+  FloatBox f;
+  if (box.isEmpty()) {  // overlaps nothing
+    for (int i = 0; i < 3; ++i) {
+      f.lo[i] = std::numeric_limits<float>::max();
+      f.hi[i] = -std::numeric_limits<float>::max();
+    }
+    return f;
+  }
+  // A float is within 2^-24 of the double it rounds: moving each side out by 1e-7 of its size
+  // first keeps the float box around the double one.
+  for (int i = 0; i < 3; ++i) {
+    const double lo = box.min()[i], hi = box.max()[i];
+    f.lo[i] = static_cast<float>(lo - (std::abs(lo) * 1e-7 + 1e-30));
+    f.hi[i] = static_cast<float>(hi + (std::abs(hi) * 1e-7 + 1e-30));
+  }
+  return f;
+}
+
 PairSearch::PairSearch(const SurfaceTopology& topology, const Points& rest) {
   const int n = topology.triangleCount();
   if (n == 0) return;
@@ -36,95 +59,152 @@ PairSearch::PairSearch(const SurfaceTopology& topology, const Points& rest) {
   for (int t = 0; t < n; ++t) {
     centroids.col(t) = (rest.col(tri(0, t)) + rest.col(tri(1, t)) + rest.col(tri(2, t))) / 3.0;
   }
-  std::vector<int> order(n);
-  std::iota(order.begin(), order.end(), 0);
-  nodes_.reserve(2 * n);
+  order_.resize(n);
+  std::iota(order_.begin(), order_.end(), 0);
+  nodes_.reserve(2 * n / kLeafSize + 2);
   mark_.assign(rest.cols(), 0);
-  build(topology, order, 0, n, centroids);
+  build(topology, 0, n, centroids);
   mark_.clear();
+  slot_of_.resize(n);
+  for (int k = 0; k < n; ++k) slot_of_[order_[k]] = k;
+  owner_slot_.assign(rest.cols(), -1);
+  for (int t = 0; t < n; ++t) {
+    for (const int* v = topology.ownedVerticesBegin(t); v != topology.ownedVerticesEnd(t); ++v) {
+      owner_slot_[*v] = slot_of_[t];
+    }
+  }
 }
 
-int PairSearch::build(const SurfaceTopology& topology, std::vector<int>& order, int begin,
-                      int end, const Points& centroids) {
+bool PairSearch::sharesVertex(const SurfaceTopology& topology, int a_begin, int a_end,
+                              int b_begin, int b_end) {
+  const Eigen::Matrix3Xi& tri = topology.triangles();
+  for (int k = a_begin; k < a_end; ++k) {
+    for (int i = 0; i < 3; ++i) mark_[tri(i, order_[k])] = 1;
+  }
+  bool shared = false;
+  for (int k = b_begin; k < b_end && !shared; ++k) {
+    for (int i = 0; i < 3; ++i) shared = shared || mark_[tri(i, order_[k])];
+  }
+  for (int k = a_begin; k < a_end; ++k) {
+    for (int i = 0; i < 3; ++i) mark_[tri(i, order_[k])] = 0;
+  }
+  return shared;
+}
+
+int PairSearch::build(const SurfaceTopology& topology, int begin, int end, const Points& centroids) {
   const int index = static_cast<int>(nodes_.size());
   nodes_.emplace_back();
-  if (end - begin == 1) {
-    nodes_[index].triangle = order[begin];
-    nodes_[index].connected = true;
+  nodes_[index].first = begin;
+  nodes_[index].last = end;
+  if (end - begin <= kLeafSize) {
+    Node& leaf = nodes_[index];
+    leaf.count = end - begin;
+    // One piece: grow a set from the first triangle by those sharing a vertex with it.
+    int in = 1;
+    for (int pass = 0; pass < kLeafSize && in < leaf.count; ++pass) {
+      for (int k = begin + in; k < end; ++k) {
+        if (sharesVertex(topology, begin, begin + in, k, k + 1)) {
+          std::swap(order_[begin + in], order_[k]);
+          ++in;
+        }
+      }
+    }
+    leaf.connected = in == leaf.count;
     return index;
   }
   Eigen::AlignedBox3d box;
-  for (int k = begin; k < end; ++k) box.extend(Vec3(centroids.col(order[k])));
+  for (int k = begin; k < end; ++k) box.extend(Vec3(centroids.col(order_[k])));
   int axis = 0;
   box.sizes().maxCoeff(&axis);
   const int mid = begin + (end - begin) / 2;
-  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
                    [&](int a, int b) { return centroids(axis, a) < centroids(axis, b); });
-  const int left = build(topology, order, begin, mid, centroids);
-  const int right = build(topology, order, mid, end, centroids);
+  const int left = build(topology, begin, mid, centroids);
+  const int right = build(topology, mid, end, centroids);
   nodes_[index].left = left;
   nodes_[index].right = right;
   // One piece when both halves are and they share a vertex (conservative: a half in two pieces
   // joined through the other half counts as two).
-  bool shared = false;
-  if (nodes_[left].connected && nodes_[right].connected) {
-    const Eigen::Matrix3Xi& tri = topology.triangles();
-    for (int k = begin; k < mid; ++k) {
-      for (int a = 0; a < 3; ++a) mark_[tri(a, order[k])] = 1;
-    }
-    for (int k = mid; k < end && !shared; ++k) {
-      for (int a = 0; a < 3; ++a) shared = shared || mark_[tri(a, order[k])];
-    }
-    for (int k = begin; k < mid; ++k) {
-      for (int a = 0; a < 3; ++a) mark_[tri(a, order[k])] = 0;
-    }
-  }
-  nodes_[index].connected = shared;
+  nodes_[index].connected = nodes_[left].connected && nodes_[right].connected &&
+                            sharesVertex(topology, begin, mid, mid, end);
   return index;
 }
 
 void PairSearch::refit(const SurfaceTopology& topology, const Points& start, const Points& end) {
   const Eigen::Matrix3Xi& tri = topology.triangles();
   box_.resize(nodes_.size());
+  size_.resize(nodes_.size());
   normals_.resize(nodes_.size());
   flat_.resize(nodes_.size());
+  tight_box_.resize(order_.size());
+  vertex_nodes_.resize(nodes_.size());
+  owned_box_.resize(order_.size());
   for (int k = static_cast<int>(nodes_.size()) - 1; k >= 0; --k) {
     const Node& node = nodes_[k];
-    if (node.triangle >= 0) {
-      const int t = node.triangle, a = tri(0, t), b = tri(1, t), c = tri(2, t);
-      box_[k] = vertex_box_[a].merged(vertex_box_[b]).merged(vertex_box_[c]);
-      const Vec3 e1s = start.col(b) - start.col(a), e2s = start.col(c) - start.col(a);
-      const Vec3 e1e = end.col(b) - end.col(a), e2e = end.col(c) - end.col(a);
-      Eigen::AlignedBox3d normals;
-      extendUnit(normals, e1s.cross(e2s));
-      extendUnit(normals, e1e.cross(e2e));
-      extendUnit(normals, e1s.cross(e2e) + e1e.cross(e2s));
-      normals_[k] = normals;
-      flat_[k] = 1;  // a single triangle has no pair of its own
+    Eigen::AlignedBox3d box, normals, vertices;
+    if (node.count > 0) {
+      for (int j = node.first; j < node.first + node.count; ++j) {
+        const int t = order_[j], a = tri(0, t), b = tri(1, t), c = tri(2, t);
+        tight_box_[j] = FloatBox::outside(triangle_box_[t]);
+        box.extend(triangle_box_[t]);
+        Eigen::AlignedBox3d owned;
+        for (const int* v = topology.ownedVerticesBegin(t); v != topology.ownedVerticesEnd(t);
+             ++v) {
+          owned.extend(vertex_box_[*v]);
+        }
+        owned_box_[j] = FloatBox::outside(owned);
+        vertices.extend(owned);
+        const Vec3 e1s = start.col(b) - start.col(a), e2s = start.col(c) - start.col(a);
+        const Vec3 e1e = end.col(b) - end.col(a), e2e = end.col(c) - end.col(a);
+        extendUnit(normals, e1s.cross(e2s));
+        extendUnit(normals, e1e.cross(e2e));
+        extendUnit(normals, e1s.cross(e2e) + e1e.cross(e2s));
+      }
     } else {
-      box_[k] = box_[node.left].merged(box_[node.right]);
-      normals_[k] = normals_[node.left].merged(normals_[node.right]);
-      flat_[k] = node.connected && flat(normals_[k]);
+      box = Eigen::AlignedBox3d(Vec3(box_[node.left].lo[0], box_[node.left].lo[1], box_[node.left].lo[2]),
+                                Vec3(box_[node.left].hi[0], box_[node.left].hi[1], box_[node.left].hi[2]));
+      box.extend(Vec3(box_[node.right].lo[0], box_[node.right].lo[1], box_[node.right].lo[2]));
+      box.extend(Vec3(box_[node.right].hi[0], box_[node.right].hi[1], box_[node.right].hi[2]));
+      normals = normals_[node.left].merged(normals_[node.right]);
+      vertex_nodes_[k] = vertex_nodes_[node.left].merged(vertex_nodes_[node.right]);
     }
+    if (node.count > 0) vertex_nodes_[k] = FloatBox::outside(vertices);
+    box_[k] = FloatBox::outside(box);
+    size_[k] = static_cast<float>(box.sizes().maxCoeff());
+    normals_[k] = normals;
+    flat_[k] = node.connected && flat(normals);
   }
 }
 
 void PairSearch::find(const SurfaceTopology& topology, const Points& start, const Points& end,
-                      double reach, std::vector<PairCandidate>& out) {
+                      double reach, double edge_reach, std::vector<PairCandidate>& out,
+                      bool cull_flat) {
+  cull_flat_ = cull_flat;
   out.clear();
-  triangle_pairs_ = 0;
+  triangle_pairs_ = vertex_pairs_ = 0;
   if (nodes_.empty()) return;
   const int n_vertices = static_cast<int>(start.cols());
-  const Vec3 grow = Vec3::Constant(0.5 * reach);
+  // Triangles and edges grow by half the edge reach; a vertex by the rest of its reach, so that
+  // its box meets a triangle's when their paths come within reach.
+  const Vec3 edge_grow = Vec3::Constant(0.5 * edge_reach);
+  const Vec3 grow = Vec3::Constant(reach - 0.5 * edge_reach);
   vertex_box_.resize(n_vertices);
+  path_box_.resize(n_vertices);
   for (int i = 0; i < n_vertices; ++i) {
     const Vec3 a = start.col(i), b = end.col(i);
+    path_box_[i] = Eigen::AlignedBox3d(a.cwiseMin(b) - edge_grow, a.cwiseMax(b) + edge_grow);
     vertex_box_[i] = Eigen::AlignedBox3d(a.cwiseMin(b) - grow, a.cwiseMax(b) + grow);
   }
   edge_box_.resize(topology.edgeCount());
   for (int e = 0; e < topology.edgeCount(); ++e) {
     const auto& v = topology.edge(e);
-    edge_box_[e] = vertex_box_[v[0]].merged(vertex_box_[v[1]]);
+    edge_box_[e] = path_box_[v[0]].merged(path_box_[v[1]]);
+  }
+  const Eigen::Matrix3Xi& tri = topology.triangles();
+  triangle_box_.resize(topology.triangleCount());
+  for (int t = 0; t < topology.triangleCount(); ++t) {
+    triangle_box_[t] =
+        path_box_[tri(0, t)].merged(path_box_[tri(1, t)]).merged(path_box_[tri(2, t)]);
   }
   refit(topology, start, end);
   topology_ = &topology;
@@ -136,58 +216,69 @@ void PairSearch::find(const SurfaceTopology& topology, const Points& start, cons
 
 void PairSearch::self(int node) {
   const Node& n = nodes_[node];
-  if (n.triangle >= 0 || flat_[node]) return;
+  if (cull_flat_ && flat_[node]) return;
+  if (n.count > 0) {
+    for (int i = n.first; i < n.first + n.count; ++i) {
+      for (int j = i + 1; j < n.first + n.count; ++j) leafPair(i, j, kAll);
+    }
+    return;
+  }
   self(n.left);
   self(n.right);
-  pair(n.left, n.right);
+  cross(n.left, n.right, kAll);
 }
 
-void PairSearch::pair(int a, int b) {
-  if (!box_[a].intersects(box_[b])) return;
+void PairSearch::cross(int a, int b, unsigned tests) {
+  // Drop the tests whose boxes no longer meet: they cannot meet below either.
+  if ((tests & kEdges) && !box_[a].overlaps(box_[b])) tests &= ~kEdges;
+  if ((tests & kVerticesOfA) && !vertex_nodes_[a].overlaps(box_[b])) tests &= ~kVerticesOfA;
+  if ((tests & kVerticesOfB) && !vertex_nodes_[b].overlaps(box_[a])) tests &= ~kVerticesOfB;
+  if (tests == 0) return;
   const Node &na = nodes_[a], &nb = nodes_[b];
-  if (na.triangle >= 0 && nb.triangle >= 0) {
-    pairTriangles(na.triangle, nb.triangle);
+  if (na.count > 0 && nb.count > 0) {
+    for (int i = na.first; i < na.first + na.count; ++i) {
+      for (int j = nb.first; j < nb.first + nb.count; ++j) leafPair(i, j, tests);
+    }
     return;
   }
   // Descend the larger node (a leaf cannot be split).
-  const bool split_a =
-      nb.triangle >= 0 || (na.triangle < 0 && box_[a].sizes().maxCoeff() >= box_[b].sizes().maxCoeff());
-  if (split_a) {
-    pair(na.left, b);
-    pair(na.right, b);
+  if (nb.count > 0 || (na.count == 0 && size_[a] >= size_[b])) {
+    cross(na.left, b, tests);
+    cross(na.right, b, tests);
   } else {
-    pair(a, nb.left);
-    pair(a, nb.right);
+    cross(a, nb.left, tests);
+    cross(a, nb.right, tests);
   }
 }
 
-void PairSearch::pairTriangles(int a, int b) {
-  ++triangle_pairs_;
+void PairSearch::leafPair(int i, int j, unsigned tests) {
   const SurfaceTopology& topology = *topology_;
-  std::vector<PairCandidate>& out = *out_;
-  const Eigen::Matrix3Xi& tri = topology.triangles();
-  const auto triangle_box = [&](int t) {
-    return vertex_box_[tri(0, t)].merged(vertex_box_[tri(1, t)]).merged(vertex_box_[tri(2, t)]);
-  };
-  for (int side = 0; side < 2; ++side) {
-    const int owner = side == 0 ? a : b, other = side == 0 ? b : a;
-    const int* v = topology.ownedVerticesBegin(owner);
-    const int* v_end = topology.ownedVerticesEnd(owner);
-    if (v == v_end) continue;
-    const Eigen::AlignedBox3d other_box = triangle_box(other);
-    for (; v != v_end; ++v) {
-      if (topology.triangleHas(other, *v) || !vertex_box_[*v].intersects(other_box)) continue;
-      out.push_back({PairKind::kVertexTriangle, {*v, tri(0, other), tri(1, other), tri(2, other)}});
+  const int a = order_[i], b = order_[j];
+  if ((tests & kEdges) && tight_box_[i].overlaps(tight_box_[j])) {
+    ++triangle_pairs_;
+    for (const int* e = topology.ownedEdgesBegin(a); e != topology.ownedEdgesEnd(a); ++e) {
+      const auto& ea = topology.edge(*e);
+      for (const int* f = topology.ownedEdgesBegin(b); f != topology.ownedEdgesEnd(b); ++f) {
+        const auto& eb = topology.edge(*f);
+        if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
+        if (!edge_box_[*e].intersects(edge_box_[*f])) continue;
+        out_->push_back({PairKind::kEdgeEdge, {ea[0], ea[1], eb[0], eb[1]}});
+      }
     }
   }
-  for (const int* e = topology.ownedEdgesBegin(a); e != topology.ownedEdgesEnd(a); ++e) {
-    const auto& ea = topology.edge(*e);
-    for (const int* f = topology.ownedEdgesBegin(b); f != topology.ownedEdgesEnd(b); ++f) {
-      const auto& eb = topology.edge(*f);
-      if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
-      if (!edge_box_[*e].intersects(edge_box_[*f])) continue;
-      out.push_back({PairKind::kEdgeEdge, {ea[0], ea[1], eb[0], eb[1]}});
-    }
+  if ((tests & kVerticesOfA) && owned_box_[i].overlaps(tight_box_[j])) vertexTriangle(a, b);
+  if ((tests & kVerticesOfB) && owned_box_[j].overlaps(tight_box_[i])) vertexTriangle(b, a);
+}
+
+void PairSearch::vertexTriangle(int owner, int other) {
+  const SurfaceTopology& topology = *topology_;
+  const Eigen::Matrix3Xi& tri = topology.triangles();
+  const Eigen::AlignedBox3d& other_box = triangle_box_[other];
+  for (const int* v = topology.ownedVerticesBegin(owner); v != topology.ownedVerticesEnd(owner);
+       ++v) {
+    if (topology.triangleHas(other, *v) || !vertex_box_[*v].intersects(other_box)) continue;
+    ++vertex_pairs_;
+    out_->push_back({PairKind::kVertexTriangle, {*v, tri(0, other), tri(1, other), tri(2, other)}});
   }
 }
 

@@ -9,13 +9,19 @@
 namespace cloth_sim {
 namespace {
 
-/// Skin of the broad phase (fraction of t): pairs within t + skin of each other are listed, so
-/// that the proximity stage's own moves (up to (t + skin - 0.1 t) / 2 = 0.7 t, the impact
-/// stage's check) stay covered by one search.
-constexpr double kSkin = 0.5;
-/// Pairs within this much (fraction of t) of their contact distance at the end of the solve
+/// The distance a vertex keeps from a triangle is t; an edge keeps kEdgeShare t from another
+/// edge: the vertices of two stacked layers then hold them t apart and their edges, listed only
+/// within 0.8 t, do not meet (at t for edges too, every edge of a layer was a candidate against
+/// a dozen of the other's: 30 to 50 pairs per particle in a two-layer fold at 128 x 128).
+constexpr double kEdgeShare = 0.5;
+/// Reach of the broad phase (fraction of t): vertex-triangle pairs within 1.25 t and edge pairs
+/// within 0.8 t of each other over the substep are listed. The impact stage needs every pair
+/// that comes within 0.1 t: so the proximity stage may move a particle (0.8 - 0.1) / 2 = 0.35 t
+/// from where the search saw it before a new search is needed.
+constexpr double kVertexReach = 1.25, kEdgeReach = 0.8, kMoveCovered = 0.35;
+/// Pairs within this much (fraction of their contact distance) of it at the end of the solve
 /// enter the proximity sweeps: pushes during the sweeps rarely close more.
-constexpr double kNear = 0.5;
+constexpr double kNear = 0.25;
 /// Gauss-Seidel sweeps of the proximity stage at most (they stop when no pair is pushed).
 constexpr int kSweeps = 6;
 constexpr int kScaledRounds = 4;
@@ -57,6 +63,17 @@ TriangleSelfContact::TriangleSelfContact(const Eigen::Matrix3Xi& triangles, cons
   // triangle in a few substeps. A tenth of an edge was too slow against the springs that hold a
   // crease: a pin jump's 11 crossing pairs (20 x 20) were still 4 after 4 s.
   untangle_step_ = 0.3 * topology_.meanEdgeLength(rest);
+  // Pairs closer than t at rest are no contacts, those closer than 1.25 t touch at 0.8 x their
+  // rest distance: when no pair is that close at rest (a thin cloth: t under 0.57 spacings on
+  // a square grid), no pair's rest distance need be measured again.
+  std::vector<PairCandidate> near;
+  search_.find(topology_, rest, rest, 1.25 * thickness, 1.25 * thickness, near, false);
+  for (const PairCandidate& pair : near) {
+    if (restDistance(pair) < 1.25 * thickness) {
+      rest_near_ = true;
+      break;
+    }
+  }
 }
 
 double TriangleSelfContact::restDistance(const PairCandidate& pair) const {
@@ -65,9 +82,9 @@ double TriangleSelfContact::restDistance(const PairCandidate& pair) const {
 
 void TriangleSelfContact::findContacts(const CollisionStep& step, const Points& end) {
   const double t = thickness_;
-  search_.find(topology_, step.start, end, (1.0 + kSkin) * t, candidates_);
+  search_.find(topology_, step.start, end, kVertexReach * t, kEdgeReach * t, candidates_);
   ++last_.searches;
-  last_.triangle_pairs += search_.trianglePairs();
+  last_.triangle_pairs += search_.trianglePairs() + search_.vertexPairs();
   last_.candidates += static_cast<long>(candidates_.size());
   contacts_.resize(candidates_.size());
   skip_.assign(candidates_.size(), 0);
@@ -131,15 +148,18 @@ int TriangleSelfContact::resolve(const CollisionStep& step, const GroundPlane& g
   for (std::size_t i = 0; i < contacts_.size(); ++i) {
     PairContact& c = contacts_[i];
     if (skip_[i] || c.normal.isZero(0.0)) continue;
-    c.contact_distance = t;
-    if (proximityGap(c, end) >= kNear * t) {
+    const double target = c.pair.kind == PairKind::kVertexTriangle ? t : kEdgeShare * t;
+    c.contact_distance = target;
+    if (proximityGap(c, end) >= kNear * target) {
       c.contact_distance = 0.0;
       continue;
     }
-    // Pairs closer than t on the cloth at rest are the springs' business (as in the particle
-    // mode); the others get 20 % compression before they touch.
-    const double rest = restDistance(c.pair);
-    c.contact_distance = rest < t ? 0.0 : std::min(t, 0.8 * rest);
+    if (rest_near_) {
+      // Pairs closer than t on the cloth at rest are the springs' business (as in the particle
+      // mode); the others get 20 % compression before they touch.
+      const double rest = restDistance(c.pair);
+      c.contact_distance = rest < t ? 0.0 : std::min(target, 0.8 * rest);
+    }
     if (c.contact_distance > 0.0) active_.push_back(static_cast<int>(i));
   }
   last_.proximity = static_cast<long>(active_.size());
@@ -148,12 +168,12 @@ int TriangleSelfContact::resolve(const CollisionStep& step, const GroundPlane& g
                                          &carry_);
   }
 
-  // 3. Impacts: pushed apart where they happen, then the fail-safe. The search covered pairs
-  // within 1.5 t over start -> before_; a particle the stages moved more than 0.7 t from
-  // before_ could meet one it did not list, so the fail-safe then gets a new search.
+  // 3. Impacts: pushed apart where they happen, then the fail-safe. A particle the stages
+  // moved more than kMoveCovered t from before_ could meet a pair the search did not list, so
+  // the fail-safe then gets a new search.
   const ImpactReport pushed = pushImpacts(contacts_, skip_, step, ground, t, kPushRounds, end, &carry_);
   const double moved_far = (end - before_).colwise().squaredNorm().maxCoeff();
-  if (moved_far > 0.49 * t * t) findContacts(step, end);
+  if (moved_far > kMoveCovered * kMoveCovered * t * t) findContacts(step, end);
   const ImpactReport impacts = stopImpacts(contacts_, skip_, step, t, kScaledRounds, end, &carry_);
   last_.impact_tests = pushed.tests + impacts.tests;
   last_.pushed = pushed.hits;
@@ -174,10 +194,10 @@ int TriangleSelfContact::resolve(const CollisionStep& step, const GroundPlane& g
 
 double TriangleSelfContact::minPairDistance(const Points& x, double cap) {
   std::vector<PairCandidate> pairs;
-  search_.find(topology_, x, x, cap, pairs);
+  search_.find(topology_, x, x, cap, cap, pairs);
   double best = cap;
   for (const PairCandidate& p : pairs) {
-    if (restDistance(p) < thickness_) continue;
+    if (p.kind != PairKind::kVertexTriangle || restDistance(p) < thickness_) continue;
     best = std::min(best, closestPoints(p.kind, pairPoints(p, x)).distance);
   }
   return best;

@@ -139,7 +139,7 @@ TEST(ImpactFailsafe, StopsCrossingsAndReportsWhatPinsDrive) {
   Points end = s.rest;
   for (int i = s.n2; i < 2 * s.n2; ++i) end(2, i) -= 0.02;  // straight through
   std::vector<PairCandidate> pairs;
-  search.find(topology, s.rest, end, 0.001, pairs);
+  search.find(topology, s.rest, end, 0.001, 0.001, pairs);
   std::vector<PairContact> contacts(pairs.size());
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     contacts[k].pair = pairs[k];

@@ -26,18 +26,21 @@ struct PairCandidate {
 ///
 /// A binary tree of the triangles is built once from the rest positions (each node splits its
 /// triangles at the median of their centroids along its longest side), so each node is a
-/// compact patch of the cloth. Each substep refits it: a node's box holds its triangles' paths
-/// from start to end (straight lines), grown by reach / 2 on every side, and its normal box
-/// holds their unit normals over the substep (the normal of a triangle moving linearly is
-/// (1 - s)^2 A + 2 s (1 - s) B + s^2 C, s in [0, 1], a positive combination of the start normal
-/// A, the end normal C and B = (e1(0) x e2(1) + e1(1) x e2(0)) / 2, so A, B and C bound it).
-/// A node in one piece whose normals stay within 60 degrees of one direction is flat: it cannot
-/// touch itself (Volino and Magnenat-Thalmann 1994, "Efficient self-collision detection on smoothly
-/// discretized surface animations using geometrical shape regularity"; Provot 1997 for the
-/// motion), so its pairs are skipped; the pairs of two nodes are tested only where their boxes
-/// overlap. Each pair of overlapping triangles (A, B) gives the vertices A owns against B (and
-/// B's against A) and the edges A owns against those B owns (SurfaceTopology), each pair of
-/// primitives once, those sharing a vertex left out and each pair's own boxes tested.
+/// compact patch of the cloth (leaves of at most four triangles). Each substep refits it: a
+/// triangle's box and an edge's hold their vertices' paths from start to end (straight lines)
+/// grown by half the edge reach; a node's normal box holds its triangles' unit normals over the
+/// substep (the normal of a triangle moving linearly is (1 - s)^2 A + 2 s (1 - s) B + s^2 C,
+/// s in [0, 1], a positive combination of the start normal A, the end normal C and
+/// B = (e1(0) x e2(1) + e1(1) x e2(0)) / 2, so A, B and C bound it). A node in one piece whose
+/// normals stay within 60 degrees of one direction is flat: it cannot touch itself (Volino and
+/// Magnenat-Thalmann 1994, "Efficient self-collision detection on smoothly discretized surface
+/// animations using geometrical shape regularity"; Provot 1997 for the motion), so its pairs are
+/// skipped. The tree is walked against itself, two nodes only where their boxes overlap: their
+/// triangles' boxes for the edges the triangles own (SurfaceTopology: each edge pair once), the
+/// box of the vertices one node's triangles own (each path grown by the rest of the vertex
+/// reach) against the other's triangles for vertex-triangle pairs, pairs sharing a vertex left
+/// out. A vertex and a triangle that come within the reach, or two edges within the edge reach,
+/// are listed.
 ///
 /// Within a flat patch, pairs are neither contacts nor impacts: they stay apart by the cloth's
 /// own extent, at least cos 60 deg times their distance along the cloth (the springs' business,
@@ -48,33 +51,76 @@ class PairSearch {
   PairSearch(const SurfaceTopology& topology, const Points& rest);
 
   /// Fills @p out with the pairs of @p topology whose boxes overlap, the path of vertex i being
-  /// @p start.col(i) to @p end.col(i) (m) and @p reach (m, >= 0) the distance of interest.
+  /// @p start.col(i) to @p end.col(i) (m): vertex-triangle pairs that may come within @p reach
+  /// (m, >= 0) of each other, edge-edge pairs within @p edge_reach (m, at most @p reach).
+  /// @p cull_flat false: flat patches are searched too (for the pairs near each other at rest).
   void find(const SurfaceTopology& topology, const Points& start, const Points& end, double reach,
-            std::vector<PairCandidate>& out);
+            double edge_reach, std::vector<PairCandidate>& out, bool cull_flat = true);
 
   /// Triangle pairs whose boxes overlapped in the last find (for the benchmark).
   long trianglePairs() const { return triangle_pairs_; }
+  /// Vertex-triangle pairs listed by the last find.
+  long vertexPairs() const { return vertex_pairs_; }
 
  private:
   struct Node {
-    int left = -1, right = -1;  ///< children (both -1 for a leaf)
-    int triangle = -1;          ///< a leaf's triangle
+    int left = -1, right = -1;  ///< children (a leaf has none)
+    int first = 0, last = 0;    ///< its triangles: order_[first, last)
+    int count = 0;              ///< a leaf's number of triangles (0 for an inner node)
     bool connected = false;     ///< its triangles are one piece (vertex to vertex)
   };
-  int build(const SurfaceTopology& topology, std::vector<int>& order, int begin, int end,
-            const Points& centroids);
+  /// A box in single precision, rounded outwards (half the memory to walk).
+  struct FloatBox {
+    float lo[3], hi[3];
+    static FloatBox outside(const Eigen::AlignedBox3d& box);
+    FloatBox merged(const FloatBox& o) const {
+      FloatBox m;
+      for (int i = 0; i < 3; ++i) {
+        m.lo[i] = lo[i] < o.lo[i] ? lo[i] : o.lo[i];
+        m.hi[i] = hi[i] > o.hi[i] ? hi[i] : o.hi[i];
+      }
+      return m;
+    }
+    bool overlaps(const FloatBox& o) const {
+      return lo[0] <= o.hi[0] && o.lo[0] <= hi[0] && lo[1] <= o.hi[1] && o.lo[1] <= hi[1] &&
+             lo[2] <= o.hi[2] && o.lo[2] <= hi[2];
+    }
+  };
+  int build(const SurfaceTopology& topology, int begin, int end, const Points& centroids);
+  /// Whether a triangle of order_[a_begin, a_end) shares a vertex with one of [b_begin, b_end).
+  bool sharesVertex(const SurfaceTopology& topology, int a_begin, int a_end, int b_begin,
+                    int b_end);
   void refit(const SurfaceTopology& topology, const Points& start, const Points& end);
+  /// The pairs within node @p node (none when it is flat).
   void self(int node);
-  void pair(int a, int b);
-  void pairTriangles(int a, int b);
+  /// Which pairs of two nodes are still to be found: edges of both, vertices of the first with
+  /// triangles of the second, and the other way round.
+  static constexpr unsigned kEdges = 1, kVerticesOfA = 2, kVerticesOfB = 4, kAll = 7;
+  /// The pairs of @p tests between nodes @p a and @p b.
+  void cross(int a, int b, unsigned tests);
+  /// The pairs of @p tests between the triangles in slots @p i and @p j: the edges each owns,
+  /// the vertices of one against the other.
+  void leafPair(int i, int j, unsigned tests);
+  /// Vertex-triangle pairs of the vertices triangle @p owner owns with triangle @p other.
+  void vertexTriangle(int owner, int other);
 
   std::vector<Node> nodes_;  ///< preorder: a parent before its children
-  std::vector<Eigen::AlignedBox3d> box_, normals_;
+  std::vector<int> order_;   ///< the triangles, leaf by leaf
+  /// Each node's box (its triangles'), the box of the vertices its triangles own; each
+  /// triangle's box and that of the vertices it owns (by order_ slot).
+  std::vector<FloatBox> box_, vertex_nodes_, tight_box_, owned_box_;
+  std::vector<int> slot_of_;     ///< each triangle's slot in order_
+  std::vector<int> owner_slot_;  ///< the slot of each vertex's owner triangle (-1: none)
+  std::vector<float> size_;               ///< each node box's largest side (m)
+  std::vector<Eigen::AlignedBox3d> normals_;
   std::vector<char> flat_, mark_;
-  std::vector<Eigen::AlignedBox3d> vertex_box_, edge_box_;
+  /// Each vertex's path grown by half the edge reach, and by the rest of the reach; each edge's
+  /// and each triangle's path grown by half the edge reach.
+  std::vector<Eigen::AlignedBox3d> path_box_, vertex_box_, edge_box_, triangle_box_;
   const SurfaceTopology* topology_ = nullptr;  ///< during find
   std::vector<PairCandidate>* out_ = nullptr;  ///< during find
-  long triangle_pairs_ = 0;
+  bool cull_flat_ = true;                      ///< during find
+  long triangle_pairs_ = 0, vertex_pairs_ = 0;
 };
 
 }  // namespace cloth_sim

@@ -44,14 +44,16 @@ struct TriangleContactStats {
 ///    free of intersections, the start is checked (IntersectionCounter); intersecting triangles
 ///    get the contour minimization displacement (contour_untangling.h) and pairs between their
 ///    vertices are left out of the stages below, which would otherwise hold the crossing.
-/// 1. Broad phase (PairSearch): pairs whose swept boxes come within t + 0.5 t.
+/// 1. Broad phase (PairSearch): vertex-triangle pairs whose swept boxes come within 1.25 t,
+///    edge pairs within 0.8 t.
 /// 2. Proximity (projectProximity): each pair's closest points and normal at the start; a pair
 ///    near contact at the end and at least t apart on the cloth at rest is kept
-///    d = min(t, 0.8 x its rest distance) apart along that normal, with Coulomb friction; four
-///    Gauss-Seidel sweeps, the ground clamped after each.
-/// 3. Impacts (stopImpacts): additive CCD of every pair over start -> end down to
-///    impactDistance, and the fail-safe that shortens colliding motions (4 scaled rounds, then
-///    stops). A substep that starts free of intersections ends free of them, unless a
+///    d = min(t, 0.8 x its rest distance) apart along that normal (a vertex from a triangle; an
+///    edge from an edge: half that), with Coulomb friction; at most six Gauss-Seidel sweeps, the
+///    ground clamped after each.
+/// 3. Impacts: additive CCD of every pair over start -> end down to impactDistance; each impact
+///    pushed apart at its time of impact (pushImpacts, 3 rounds), then the fail-safe that
+///    shortens colliding motions (stopImpacts, 4 scaled rounds, then stops). A substep that starts free of intersections ends free of them, unless a
 ///    hard-pinned particle is driven through the cloth (then the next substep untangles).
 ///
 /// Velocities get the change of position of stages 2 and 3 over h, except the part of a push
@@ -72,9 +74,9 @@ class TriangleSelfContact {
   const TriangleContactStats& lastStats() const { return last_; }
   const TriangleContactStats& totalStats() const { return total_; }
   const SurfaceTopology& topology() const { return topology_; }
-  /// Smallest distance (m) between a vertex and a triangle, or two edges, sharing no vertex and
-  /// at least t apart at rest, among the pairs within @p cap (m) at @p x; @p cap if none (for
-  /// tests: the layers' separation).
+  /// Smallest distance (m) between a vertex and a triangle sharing no vertex and at least t
+  /// apart at rest, among the pairs within @p cap (m) at @p x; @p cap if none (for tests: the
+  /// layers' separation; edges keep only half the thickness from each other).
   double minPairDistance(const Points& x, double cap);
 
  private:
@@ -95,6 +97,7 @@ class TriangleSelfContact {
   std::vector<std::pair<int, int>> tangled_;
   Points last_end_, before_, carry_, untangle_;
   bool verified_ = false;  ///< last_end_ is proven free of intersections
+  bool rest_near_ = false; ///< some pair is closer than 1.25 t at rest (rest distances matter)
   TriangleContactStats last_, total_;
 };
 
