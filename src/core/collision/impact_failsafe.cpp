@@ -33,11 +33,12 @@ CcdResult safeTime(const PairContact& c, const Points& start, const Points& end,
 
 ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
                          const CollisionStep& step, const GroundPlane& ground, double thickness,
-                         int rounds, Points& end, Points* carry) {
+                         int rounds, Points& end, Points* carry, std::vector<char>& moved) {
   ImpactReport report;
   const Points& start = step.start;
   const int n = static_cast<int>(end.cols());
   std::vector<char> changed(n, 1), next_changed(n, 0);
+  moved.assign(n, 0);
   for (int round = 0; round < rounds; ++round) {
     std::fill(next_changed.begin(), next_changed.end(), 0);
     int hits = 0;
@@ -49,6 +50,7 @@ ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::ve
       const CcdResult ccd = safeTime(c, start, end, thickness, report.tests);
       if (ccd.safe_time >= 1.0) continue;
       ++hits;
+      for (int k = 0; k < 4; ++k) moved[v[k]] = 1;  // stopImpacts tests it again
       // The closest points where the pair stops: their direction is the side to keep.
       PairPoints at;
       for (int k = 0; k < 4; ++k) {
@@ -75,12 +77,14 @@ ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::ve
 
 ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
                          const CollisionStep& step, double thickness, int scaled_rounds,
-                         Points& end, Points* carry) {
+                         Points& end, Points* carry, const std::vector<char>* moved,
+                         std::size_t first_new) {
   ImpactReport report;
   const Points& start = step.start;
   const int n = static_cast<int>(end.cols());
   std::vector<double> scale;                   // this round's scale of each particle's motion
   std::vector<char> changed(n, 1), shortened(n, 0), next_changed(n, 0);
+  if (moved != nullptr) changed = *moved;
   std::vector<int> touched;
   for (std::size_t i = 0; i < contacts.size(); ++i) {
     if (!skip[i] && !(impactDistance(thickness, contacts[i].start_distance) > 1e-9 * thickness)) {
@@ -96,7 +100,10 @@ ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::ve
       if (skip[i]) continue;
       const PairContact& c = contacts[i];
       const auto& v = c.pair.v;
-      if (!(changed[v[0]] || changed[v[1]] || changed[v[2]] || changed[v[3]])) continue;
+      if (!(changed[v[0]] || changed[v[1]] || changed[v[2]] || changed[v[3]]) &&
+          !(round == 0 && i >= first_new)) {
+        continue;
+      }
       const CcdResult ccd = safeTime(c, start, end, thickness, report.tests);
       if (ccd.safe_time >= 1.0) continue;
       ++hits;

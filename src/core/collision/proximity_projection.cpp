@@ -1,6 +1,7 @@
 #include "cloth_sim/core/collision/proximity_projection.h"
 
 #include <algorithm>
+#include <vector>
 
 #include "cloth_sim/core/collision/contact_projection.h"
 
@@ -8,7 +9,8 @@ namespace cloth_sim {
 
 bool pushApart(const std::array<int, 4>& v, const std::array<double, 4>& weight,
                const Vec3& normal, double gap, const CollisionStep& step,
-               const GroundPlane& ground, double mu, Points& end, Points* carry) {
+               const GroundPlane& ground, double mu, Points& end, Points* carry,
+               const Points* slide_from) {
   std::array<double, 4> inv{};
   double denom = 0.0;
   for (int k = 0; k < 4; ++k) {
@@ -39,16 +41,21 @@ bool pushApart(const std::array<int, 4>& v, const std::array<double, 4>& weight,
       }
     }
   }
-  if (mu > 0.0) {  // friction on the closest points' relative slide over the substep
-    Vec3 slide = Vec3::Zero();
-    for (int k = 0; k < 4; ++k) slide += weight[k] * (end.col(v[k]) - step.start.col(v[k]));
+  if (mu > 0.0) {
+    // Friction on the closest points' relative slide since @p slide_from (the positions cut),
+    // and over this substep (the velocities).
+    const Points& from = slide_from != nullptr ? *slide_from : step.start;
+    Vec3 slide = Vec3::Zero(), slide_now = Vec3::Zero();
+    for (int k = 0; k < 4; ++k) {
+      slide += weight[k] * (end.col(v[k]) - from.col(v[k]));
+      if (carry != nullptr) slide_now += weight[k] * (carry->col(v[k]) - step.start.col(v[k]));
+    }
     const Vec3 cut = slide - applyFriction(slide, normal, -gap, mu);
-    if (!cut.isZero(0.0)) {
-      for (int k = 0; k < 4; ++k) {
-        const Vec3 dx = (inv[k] * weight[k] / denom) * cut;
-        end.col(v[k]) -= dx;
-        if (carry != nullptr) carry->col(v[k]) -= dx;
-      }
+    const Vec3 cut_now = slide_now - applyFriction(slide_now, normal, -gap, mu);
+    for (int k = 0; k < 4; ++k) {
+      const double share = inv[k] * weight[k] / denom;
+      end.col(v[k]) -= share * cut;
+      if (carry != nullptr) carry->col(v[k]) -= share * cut_now;
     }
   }
   return true;
@@ -56,29 +63,39 @@ bool pushApart(const std::array<int, 4>& v, const std::array<double, 4>& weight,
 
 int projectProximity(const std::vector<PairContact>& contacts, const std::vector<int>& active,
                      const CollisionStep& step, const GroundPlane& ground, double mu, int sweeps,
-                     Points& end, Points* carry) {
+                     Points& end, Points* carry, const Points* slide_from) {
   int corrections = 0;
+  // After the first sweep, a contact's gap changes only if one of its particles moved.
+  std::vector<char> moved(end.cols(), 1), moving(end.cols(), 0);
   for (int sweep = 0; sweep < sweeps; ++sweep) {
     int pushed = 0;
     for (int index : active) {
       const PairContact& c = contacts[index];
+      const auto& v = c.pair.v;
+      if (!(moved[v[0]] || moved[v[1]] || moved[v[2]] || moved[v[3]])) continue;
       const double gap = proximityGap(c, end);
       if (gap >= -1e-3 * c.contact_distance) continue;  // within 0.1 % of it: done
       ++pushed;
-      if (pushApart(c.pair.v, c.weight, c.normal, gap, step, ground, mu, end, carry)) {
+      if (pushApart(c.pair.v, c.weight, c.normal, gap, step, ground, mu, end, carry, slide_from)) {
         ++corrections;
+        for (int k = 0; k < 4; ++k) moving[v[k]] = 1;
       }
     }
     if (ground.enabled) {
       for (int index : active) {
         for (int v : contacts[index].pair.v) {
           if (!step.movable[v]) continue;
-          if (end(2, v) < ground.height) end(2, v) = ground.height;
+          if (end(2, v) < ground.height) {
+            end(2, v) = ground.height;
+            moving[v] = 1;
+          }
           if (carry != nullptr && (*carry)(2, v) < ground.height) (*carry)(2, v) = ground.height;
         }
       }
     }
     if (pushed == 0) break;
+    moved.swap(moving);
+    std::fill(moving.begin(), moving.end(), 0);
   }
   return corrections;
 }

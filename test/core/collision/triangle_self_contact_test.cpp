@@ -60,13 +60,15 @@ TEST(TriangleSelfContact, SheetThrownThroughAnotherStopsAtTheThickness) {
   EXPECT_GT(st.proximity, 0);
   // Equal masses share every push, so the momentum stays.
   EXPECT_LT(((end - s.rest).rowwise().sum() - momentum).norm(), 1e-12);
-  // One plunge of 5 cm = 25 t leaves the sheets apart, and one substep at rest after it
-  // restores the thickness between them.
+  // One plunge of 5 cm = 25 t leaves the sheets apart, and the next substep that runs the
+  // proximity stage (one in four) restores the thickness between them.
   EXPECT_GE(contact.minPairDistance(end, 0.01), 0.1 * t);
-  StepData rest_step(end);
   Points still = end;
-  contact.resolve(rest_step.step(0.002), GroundPlane{}, still, v);
-  EXPECT_EQ(counter.count(still), 0);
+  for (int k = 0; k < 4; ++k) {
+    StepData rest_step(still);
+    contact.resolve(rest_step.step(0.002), GroundPlane{}, still, v);
+    EXPECT_EQ(counter.count(still), 0);
+  }
   EXPECT_GE(contact.minPairDistance(still, 0.01), 0.9 * t);
   // Velocities follow the positions' change over h.
   EXPECT_GT(v.block(2, s.n2, 1, s.n2).maxCoeff(), 1.0);

@@ -46,11 +46,12 @@ inline double impactDistance(double thickness, double start_distance) {
 /// motion a collision leaves (the slide along the contact) where the fail-safe would stop it,
 /// and put the pair back at a distance from which the next substep's impact distance does not
 /// shrink. Pushed particles may leave the broad phase's boxes: the caller searches again when
-/// they moved far. @p carry as in pushApart. Returns the report (hits and tests; nothing is
-/// shortened).
+/// they moved far. @p carry as in pushApart; @p moved gets 1 for each particle of a pair found
+/// colliding (pushed or not). Returns
+/// the report (hits and tests; nothing is shortened).
 ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
                          const CollisionStep& step, const GroundPlane& ground, double thickness,
-                         int rounds, Points& end, Points* carry);
+                         int rounds, Points& end, Points* carry, std::vector<char>& moved);
 
 /// Detects the impacts of @p contacts (those with @p skip[i] false) over the motion from
 /// @p step.start to @p end by additive CCD (additive_ccd.h) down to impactDistance, and removes
@@ -60,9 +61,12 @@ ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::ve
 /// particles changed. After @p scaled_rounds rounds, colliding pairs stop their movable
 /// particles outright (s = 0); the stopped set only grows, so the rounds end. Motions stay on the
 /// straight paths the broad phase bounded, so no new candidate can appear. Each change of an
-/// end position is made to @p carry too (if given; see pushApart).
+/// end position is made to @p carry too (if given; see pushApart). With @p moved, the first
+/// round tests only the pairs with a particle marked there, and those from @p first_new on
+/// (the others were found safe over this motion already, by pushImpacts).
 ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
                          const CollisionStep& step, double thickness, int scaled_rounds,
-                         Points& end, Points* carry);
+                         Points& end, Points* carry, const std::vector<char>* moved = nullptr,
+                         std::size_t first_new = 0);
 
 }  // namespace cloth_sim

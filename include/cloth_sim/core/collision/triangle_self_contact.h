@@ -81,7 +81,8 @@ class TriangleSelfContact {
 
  private:
   /// Lists the broad phase's pairs for the motion start -> end with their start geometry.
-  void findContacts(const CollisionStep& step, const Points& end);
+  void findContacts(const CollisionStep& step, const Points& end, double vertex_reach,
+                    double edge_reach);
   /// The pair's distance on the cloth at rest (m).
   double restDistance(const PairCandidate& pair) const;
 
@@ -93,9 +94,11 @@ class TriangleSelfContact {
   std::vector<PairCandidate> candidates_;
   std::vector<PairContact> contacts_;
   std::vector<int> active_;
-  std::vector<char> skip_, tangled_vertex_;
+  std::vector<char> skip_, tangled_vertex_, pushed_;
   std::vector<std::pair<int, int>> tangled_;
   Points last_end_, before_, carry_, untangle_;
+  Points slide_from_;  ///< start of the last substep that ran the proximity stage (friction)
+  long substep_ = 0;
   bool verified_ = false;  ///< last_end_ is proven free of intersections
   bool rest_near_ = false; ///< some pair is closer than 1.25 t at rest (rest distances matter)
   TriangleContactStats last_, total_;
