@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "cloth_sim/core/simulation.h"
+#include "cloth_sim/core/simulation/simulation.h"
 
 namespace cloth_sim::cases {
 
