@@ -77,8 +77,7 @@ ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::ve
 
 ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
                          const CollisionStep& step, double thickness, int scaled_rounds,
-                         Points& end, Points* carry, const std::vector<char>* moved,
-                         std::size_t first_new) {
+                         Points& end, Points* carry, const std::vector<char>* moved) {
   ImpactReport report;
   const Points& start = step.start;
   const int n = static_cast<int>(end.cols());
@@ -100,10 +99,7 @@ ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::ve
       if (skip[i]) continue;
       const PairContact& c = contacts[i];
       const auto& v = c.pair.v;
-      if (!(changed[v[0]] || changed[v[1]] || changed[v[2]] || changed[v[3]]) &&
-          !(round == 0 && i >= first_new)) {
-        continue;
-      }
+      if (!(changed[v[0]] || changed[v[1]] || changed[v[2]] || changed[v[3]])) continue;
       const CcdResult ccd = safeTime(c, start, end, thickness, report.tests);
       if (ccd.safe_time >= 1.0) continue;
       ++hits;

@@ -154,6 +154,7 @@ void PairSearch::refit(const SurfaceTopology& topology, const Points& start, con
         }
         owned_box_[j] = FloatBox::outside(owned);
         vertices.extend(owned);
+        if (!cull_flat_) continue;  // the normals serve only to skip flat patches
         const Vec3 e1s = start.col(b) - start.col(a), e2s = start.col(c) - start.col(a);
         const Vec3 e1e = end.col(b) - end.col(a), e2e = end.col(c) - end.col(a);
         extendUnit(normals, e1s.cross(e2s));

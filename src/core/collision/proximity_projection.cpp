@@ -9,8 +9,7 @@ namespace cloth_sim {
 
 bool pushApart(const std::array<int, 4>& v, const std::array<double, 4>& weight,
                const Vec3& normal, double gap, const CollisionStep& step,
-               const GroundPlane& ground, double mu, Points& end, Points* carry,
-               const Points* slide_from) {
+               const GroundPlane& ground, double mu, Points& end, Points* carry) {
   std::array<double, 4> inv{};
   double denom = 0.0;
   for (int k = 0; k < 4; ++k) {
@@ -41,21 +40,16 @@ bool pushApart(const std::array<int, 4>& v, const std::array<double, 4>& weight,
       }
     }
   }
-  if (mu > 0.0) {
-    // Friction on the closest points' relative slide since @p slide_from (the positions cut),
-    // and over this substep (the velocities).
-    const Points& from = slide_from != nullptr ? *slide_from : step.start;
-    Vec3 slide = Vec3::Zero(), slide_now = Vec3::Zero();
-    for (int k = 0; k < 4; ++k) {
-      slide += weight[k] * (end.col(v[k]) - from.col(v[k]));
-      if (carry != nullptr) slide_now += weight[k] * (carry->col(v[k]) - step.start.col(v[k]));
-    }
+  if (mu > 0.0) {  // friction on the closest points' relative slide over the substep
+    Vec3 slide = Vec3::Zero();
+    for (int k = 0; k < 4; ++k) slide += weight[k] * (end.col(v[k]) - step.start.col(v[k]));
     const Vec3 cut = slide - applyFriction(slide, normal, -gap, mu);
-    const Vec3 cut_now = slide_now - applyFriction(slide_now, normal, -gap, mu);
-    for (int k = 0; k < 4; ++k) {
-      const double share = inv[k] * weight[k] / denom;
-      end.col(v[k]) -= share * cut;
-      if (carry != nullptr) carry->col(v[k]) -= share * cut_now;
+    if (!cut.isZero(0.0)) {
+      for (int k = 0; k < 4; ++k) {
+        const Vec3 dx = (inv[k] * weight[k] / denom) * cut;
+        end.col(v[k]) -= dx;
+        if (carry != nullptr) carry->col(v[k]) -= dx;
+      }
     }
   }
   return true;
@@ -63,7 +57,7 @@ bool pushApart(const std::array<int, 4>& v, const std::array<double, 4>& weight,
 
 int projectProximity(const std::vector<PairContact>& contacts, const std::vector<int>& active,
                      const CollisionStep& step, const GroundPlane& ground, double mu, int sweeps,
-                     Points& end, Points* carry, const Points* slide_from) {
+                     Points& end, Points* carry) {
   int corrections = 0;
   // After the first sweep, a contact's gap changes only if one of its particles moved.
   std::vector<char> moved(end.cols(), 1), moving(end.cols(), 0);
@@ -76,7 +70,7 @@ int projectProximity(const std::vector<PairContact>& contacts, const std::vector
       const double gap = proximityGap(c, end);
       if (gap >= -1e-3 * c.contact_distance) continue;  // within 0.1 % of it: done
       ++pushed;
-      if (pushApart(c.pair.v, c.weight, c.normal, gap, step, ground, mu, end, carry, slide_from)) {
+      if (pushApart(c.pair.v, c.weight, c.normal, gap, step, ground, mu, end, carry)) {
         ++corrections;
         for (int k = 0; k < 4; ++k) moving[v[k]] = 1;
       }

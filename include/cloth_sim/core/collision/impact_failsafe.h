@@ -62,11 +62,10 @@ ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::ve
 /// particles outright (s = 0); the stopped set only grows, so the rounds end. Motions stay on the
 /// straight paths the broad phase bounded, so no new candidate can appear. Each change of an
 /// end position is made to @p carry too (if given; see pushApart). With @p moved, the first
-/// round tests only the pairs with a particle marked there, and those from @p first_new on
-/// (the others were found safe over this motion already, by pushImpacts).
+/// round tests only the pairs with a particle marked there (the others were found safe over
+/// this motion already, by pushImpacts).
 ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
                          const CollisionStep& step, double thickness, int scaled_rounds,
-                         Points& end, Points* carry, const std::vector<char>* moved = nullptr,
-                         std::size_t first_new = 0);
+                         Points& end, Points* carry, const std::vector<char>* moved = nullptr);
 
 }  // namespace cloth_sim

@@ -40,10 +40,8 @@ inline double proximityGap(const PairContact& c, const Points& x) {
 /// Closes the negative gap @p gap (m) of the constraint n . sum_k weight[k] x_{v[k]} >= d of the
 /// four particles @p v: each moves along @p normal by its weight times its inverse mass (hard
 /// pins and, for a push down, particles lying on @p ground do not move), so sum_k m_k dx_k = 0;
-/// then Coulomb friction cuts their closest points' relative slide by @p mu times the push: the
-/// slide since @p slide_from (default the substep's start; the positions of the last substep
-/// that ran the proximity stage, when it skips some) in the positions, the slide over this
-/// substep in @p carry. Returns false when no particle can move.
+/// then Coulomb friction cuts their closest points' relative slide over the substep by @p mu
+/// times the push (in @p carry too). Returns false when no particle can move.
 ///
 /// @p carry (if given) holds the positions the velocities will follow, (carry - start) / h: it
 /// gets only the part of the push that stops the pair's approach over the substep (an inelastic
@@ -53,17 +51,16 @@ inline double proximityGap(const PairContact& c, const Points& x) {
 /// blew up (0.13 J to 19 J in 1.3 s, measured).
 bool pushApart(const std::array<int, 4>& v, const std::array<double, 4>& weight,
                const Vec3& normal, double gap, const CollisionStep& step,
-               const GroundPlane& ground, double mu, Points& end, Points* carry,
-               const Points* slide_from = nullptr);
+               const GroundPlane& ground, double mu, Points& end, Points* carry);
 
 /// Pushes apart the contacts of @p contacts listed in @p active (indices) by Gauss-Seidel
 /// sweeps (pushApart for each pair with a negative gap beyond 0.1 % of its contact distance),
 /// at most @p sweeps of them, stopping after a sweep that pushed nothing. After each sweep
 /// @p ground, if enabled, clamps the movable particles of the contacts onto it (the ground
-/// keeps the last word, as for the particle mode). @p mu, @p carry, @p slide_from as in
-/// pushApart (@p carry is clamped too). Returns the number of pushes made.
+/// keeps the last word, as for the particle mode). @p mu, @p carry as in pushApart (@p carry is
+/// clamped too). Returns the number of pushes made.
 int projectProximity(const std::vector<PairContact>& contacts, const std::vector<int>& active,
                      const CollisionStep& step, const GroundPlane& ground, double mu, int sweeps,
-                     Points& end, Points* carry, const Points* slide_from = nullptr);
+                     Points& end, Points* carry);
 
 }  // namespace cloth_sim

@@ -48,9 +48,8 @@ struct TriangleContactStats {
 ///    edge pairs within 0.8 t.
 /// 2. Proximity (projectProximity): each pair's closest points and normal at the start; a pair
 ///    near contact at the end and at least t apart on the cloth at rest is kept
-///    d = min(t, 0.8 x its rest distance) apart along that normal (a vertex from a triangle; an
-///    edge from an edge: half that), with Coulomb friction; at most six Gauss-Seidel sweeps, the
-///    ground clamped after each.
+///    d = min(t, 0.8 x its rest distance) apart along that normal, with Coulomb friction; at
+///    most six Gauss-Seidel sweeps, the ground clamped after each.
 /// 3. Impacts: additive CCD of every pair over start -> end down to impactDistance; each impact
 ///    pushed apart at its time of impact (pushImpacts, 3 rounds), then the fail-safe that
 ///    shortens colliding motions (stopImpacts, 4 scaled rounds, then stops). A substep that starts free of intersections ends free of them, unless a
@@ -76,13 +75,15 @@ class TriangleSelfContact {
   const SurfaceTopology& topology() const { return topology_; }
   /// Smallest distance (m) between a vertex and a triangle sharing no vertex and at least t
   /// apart at rest, among the pairs within @p cap (m) at @p x; @p cap if none (for tests: the
-  /// layers' separation; edges keep only half the thickness from each other).
+  /// layers' separation).
   double minPairDistance(const Points& x, double cap);
 
  private:
-  /// Lists the broad phase's pairs for the motion start -> end with their start geometry.
+  /// contacts_ from the broad phase's pairs for the motion start -> end.
   void findContacts(const CollisionStep& step, const Points& end, double vertex_reach,
                     double edge_reach);
+  /// Appends @p pair to contacts_ with its start geometry.
+  void addContact(const CollisionStep& step, const PairCandidate& pair);
   /// The pair's distance on the cloth at rest (m).
   double restDistance(const PairCandidate& pair) const;
 
@@ -97,8 +98,6 @@ class TriangleSelfContact {
   std::vector<char> skip_, tangled_vertex_, pushed_;
   std::vector<std::pair<int, int>> tangled_;
   Points last_end_, before_, carry_, untangle_;
-  Points slide_from_;  ///< start of the last substep that ran the proximity stage (friction)
-  long substep_ = 0;
   bool verified_ = false;  ///< last_end_ is proven free of intersections
   bool rest_near_ = false; ///< some pair is closer than 1.25 t at rest (rest distances matter)
   TriangleContactStats last_, total_;
