@@ -17,7 +17,7 @@ const char* selfContactModeName(SelfContactMode mode) {
 SelfContactMode selfContactModeFromName(const std::string& name) {
   if (name == "triangles") return SelfContactMode::kTriangles;
   if (name == "particles") return SelfContactMode::kParticles;
-  throw std::invalid_argument("self_collision.mode = '" + name +
+  throw std::invalid_argument("self_collision.mode '" + name +
                               "' must be one of triangles, particles");
 }
 
@@ -48,23 +48,21 @@ SelfContact::SelfContact(const Eigen::Matrix3Xi& triangles, const Points& rest,
   }
   if (mode_ == SelfContactMode::kParticles) {
     const double least = ParticleSelfContact::minimumThickness(triangles, rest);
-    if (thickness_ < least) {
-      throw std::invalid_argument(
-          "self_collision.thickness = " + formatNumber(thickness_) +
-          " m is too thin for mode particles: it must be at least 1.05 x the widest gap between "
-          "the particles of a rest triangle, " + formatNumber(least) +
-          " m for this cloth (docs/method.md, \"The particle mode\"); give mode: triangles for a "
-          "thinner cloth");
-    }
+    // The table's refusal for a floor that depends on the cloth.
+    const Setting rule{settings::kSelfThickness.name, "", Range::atLeast(least), false, "m",
+                       "in mode particles for this cloth: 1.05 x the widest gap between the "
+                       "particles of a rest triangle (docs/method.md, \"The particle mode\"); "
+                       "give mode: triangles for a thinner cloth",
+                       "", 0};
+    rule.require(thickness_);
     particles_ = std::make_unique<ParticleSelfContact>(triangles, rest, thickness_, friction_);
   } else {
-    if (thickness_ < kMinimumThickness) {
-      throw std::invalid_argument(
-          "self_collision.thickness = " + formatNumber(thickness_) + " m must be at least " +
-          formatNumber(kMinimumThickness) +
-          " m in mode triangles: thinner, contacts pressed by the ground and stopped impacts "
-          "come within rounding of touching (docs/method.md, \"Self-contact\")");
-    }
+    const Setting rule{settings::kSelfThickness.name, "", Range::atLeast(kMinimumThickness), false,
+                       "m",
+                       "in mode triangles: thinner, contacts pressed by the ground and stopped "
+                       "impacts come within rounding of touching (docs/method.md, \"Self-contact\")",
+                       "", 0};
+    rule.require(thickness_);
     triangles_ = std::make_unique<TriangleSelfContact>(triangles, rest, thickness_, friction_);
   }
 }

@@ -27,8 +27,8 @@ namespace cloth_sim {
 enum class SelfContactMode { kTriangles, kParticles };
 /// "triangles", "particles".
 const char* selfContactModeName(SelfContactMode mode);
-/// The mode named @p name; throws std::invalid_argument "self_collision.mode = ..." listing
-/// the names.
+/// The mode named @p name; throws std::invalid_argument "self_collision.mode '<name>' must be
+/// one of triangles, particles".
 SelfContactMode selfContactModeFromName(const std::string& name);
 
 /// Thickness (m) of mode triangles when the scene gives none: a cloth's real thickness is 0.3 to
@@ -55,7 +55,8 @@ struct SelfContactSettings {
   /// two primitives in contact is cut by mu times the normal correction.
   double friction = 0.3;
 
-  /// Throws std::invalid_argument "self_collision.<field> = <value> must be <rule>".
+  /// Throws std::invalid_argument with the table's refusal, "self_collision.<field> <value> must
+  /// be <rule>" (Setting::refusal).
   void validate() const;
 };
 
