@@ -21,8 +21,11 @@ endif()
 
 add_library(cloth_sim_bench_lib STATIC
   tools/bench/cases.cpp tools/bench/reference.cpp tools/bench/speed.cpp tools/bench/stability.cpp
-  tools/bench/floor.cpp tools/bench/scaling.cpp tools/bench/accuracy.cpp tools/bench/drift.cpp)
+  tools/bench/floor.cpp tools/bench/scaling.cpp tools/bench/accuracy.cpp tools/bench/drift.cpp
+  tools/bench/self_collision_set.cpp)
 target_link_libraries(cloth_sim_bench_lib PUBLIC cloth_sim_core)
+# The randomized self-contact set shares its cases with the tests (header-only).
+target_include_directories(cloth_sim_bench_lib PRIVATE test/core/collision)
 add_executable(cloth_sim_bench tools/bench/bench_main.cpp)
 target_link_libraries(cloth_sim_bench cloth_sim_bench_lib CLI11::CLI11)
 target_compile_definitions(cloth_sim_bench PRIVATE CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")

@@ -12,6 +12,7 @@
 #include "drift.h"
 #include "floor.h"
 #include "scaling.h"
+#include "self_collision_set.h"
 #include "speed.h"
 #include "stability.h"
 
@@ -172,6 +173,19 @@ int main(int argc, char** argv) {
                         "solver[/integrator]:substeps|scene|verlet:iterations|scene")
       ->delimiter(',')->capture_default_str();
 
+  SelfCollisionSetOptions self_set;
+  self_set.out_dir = source_dir + "/bench/results";
+  CLI::App* self_set_cmd = app.add_subcommand(
+      "self_collision_set", "the randomized self-contact set at 16 to 128 particles a side");
+  self_set_cmd->add_option("--out", self_set.out_dir, "output directory")->capture_default_str();
+  self_set_cmd->add_option("--seeds", self_set.seeds, "cases (seeds from 20260500)")
+      ->capture_default_str()->check(CLI::Range(1, 1000));
+  self_set_cmd->add_option("--max-resolution", self_set.max_resolution,
+                           "particles along the longer side at most")
+      ->capture_default_str()->check(CLI::Range(16, 400));
+  self_set_cmd->add_option("--duration", self_set.seconds, "simulated s per case")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -188,6 +202,7 @@ int main(int argc, char** argv) {
     drift.scenes_dir = speed.scenes_dir;
     if (*drift_cmd) runDrift(drift);
     if (*scaling_cmd) runScaling(scaling);
+    if (*self_set_cmd && runSelfCollisionSet(self_set) != 0) return 2;
     if (*speed_cmd) {
       speed.paper = !no_paper;
       runSpeed(speed);

@@ -1,7 +1,7 @@
 /// @file self_contact_cases.h
 /// Scenes of a cloth in contact with itself at a real thickness, shared by the tests
 /// (self_contact_thin_scenes_test.cpp: the strip and bag, a coarse randomized set) and
-/// the benchmark (tools/bench/self_collision_bench.cpp: the same set up to 128 x 128). Each case
+/// the benchmark (tools/bench/self_collision_set.cpp: the same set up to 128 x 128). Each case
 /// is a scene in YAML, as a user would write it, and what moves its pins frame by frame.
 /// Header-only, so that the benchmark compiles it without the tests' library.
 #pragma once
