@@ -29,6 +29,27 @@ CcdResult safeTime(const PairContact& c, const Points& start, const Points& end,
   return additiveCcd(c.pair.kind, x0, motion, min_distance);
 }
 
+/// Runs additive CCD on each pair of @p contacts that is not skipped and has a particle marked in
+/// @p changed, over the motion start -> @p end, and calls @p on_hit(pair, its CCD result) for
+/// each that collides. Returns the number of those (a round's hits).
+template <typename OnHit>
+int forEachImpact(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
+                  const std::vector<char>& changed, const Points& start, const Points& end,
+                  double thickness, int& tests, OnHit&& on_hit) {
+  int hits = 0;
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    if (skip[i]) continue;
+    const PairContact& c = contacts[i];
+    const auto& v = c.pair.v;
+    if (!(changed[v[0]] || changed[v[1]] || changed[v[2]] || changed[v[3]])) continue;
+    const CcdResult ccd = safeTime(c, start, end, thickness, tests);
+    if (ccd.safe_time >= 1.0) continue;
+    ++hits;
+    on_hit(c, ccd);
+  }
+  return hits;
+}
+
 }  // namespace
 
 ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
@@ -41,15 +62,9 @@ ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::ve
   moved.assign(n, 0);
   for (int round = 0; round < rounds; ++round) {
     std::fill(next_changed.begin(), next_changed.end(), 0);
-    int hits = 0;
-    for (std::size_t i = 0; i < contacts.size(); ++i) {
-      if (skip[i]) continue;
-      const PairContact& c = contacts[i];
+    const int hits = forEachImpact(contacts, skip, changed, start, end, thickness, report.tests,
+                                   [&](const PairContact& c, const CcdResult& ccd) {
       const auto& v = c.pair.v;
-      if (!(changed[v[0]] || changed[v[1]] || changed[v[2]] || changed[v[3]])) continue;
-      const CcdResult ccd = safeTime(c, start, end, thickness, report.tests);
-      if (ccd.safe_time >= 1.0) continue;
-      ++hits;
       for (int k = 0; k < 4; ++k) moved[v[k]] = 1;  // stopImpacts tests it again
       // The closest points where the pair stops: their direction is the side to keep.
       PairPoints at;
@@ -57,16 +72,16 @@ ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::ve
         at[k] = start.col(v[k]) + ccd.safe_time * (end.col(v[k]) - start.col(v[k]));
       }
       const ClosestPoints cp = closestPoints(c.pair.kind, at);
-      if (!(cp.distance > 0.0)) continue;
+      if (!(cp.distance > 0.0)) return;
       const Vec3 normal = gapVector(cp, at[0], at[1], at[2], at[3]) / cp.distance;
       Vec3 g = Vec3::Zero();
       for (int k = 0; k < 4; ++k) g += cp.weight[k] * end.col(v[k]);
       const double gap = normal.dot(g) - 0.5 * thickness;
-      if (gap >= 0.0) continue;  // apart at the end: it went round; the fail-safe decides
+      if (gap >= 0.0) return;  // apart at the end: it went round; the fail-safe decides
       if (pushApart(v, cp.weight, normal, gap, step, ground, 0.0, end, carry)) {
         for (int k = 0; k < 4; ++k) next_changed[v[k]] = 1;
       }
-    }
+    });
     report.hits += hits;
     if (hits == 0) break;
     ++report.rounds;
@@ -94,22 +109,16 @@ ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::ve
     const bool stop_outright = round >= scaled_rounds;
     scale.assign(n, 1.0);
     touched.clear();
-    int hits = 0;
-    for (std::size_t i = 0; i < contacts.size(); ++i) {
-      if (skip[i]) continue;
-      const PairContact& c = contacts[i];
+    const int hits = forEachImpact(contacts, skip, changed, start, end, thickness, report.tests,
+                                   [&](const PairContact& c, const CcdResult& ccd) {
       const auto& v = c.pair.v;
-      if (!(changed[v[0]] || changed[v[1]] || changed[v[2]] || changed[v[3]])) continue;
-      const CcdResult ccd = safeTime(c, start, end, thickness, report.tests);
-      if (ccd.safe_time >= 1.0) continue;
-      ++hits;
       const double s = stop_outright ? 0.0 : ccd.safe_time;
       for (int k = 0; k < 4; ++k) {
         if (!step.movable[v[k]]) continue;
         if (scale[v[k]] == 1.0) touched.push_back(v[k]);
         scale[v[k]] = std::min(scale[v[k]], s);
       }
-    }
+    });
     if (hits == 0) break;
     ++report.rounds;
     report.hits += hits;
