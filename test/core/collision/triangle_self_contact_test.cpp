@@ -60,8 +60,8 @@ TEST(TriangleSelfContact, SheetThrownThroughAnotherStopsAtTheThickness) {
   EXPECT_GT(st.proximity, 0);
   // Equal masses share every push, so the momentum stays.
   EXPECT_LT(((end - s.rest).rowwise().sum() - momentum).norm(), 1e-12);
-  // One plunge of 5 cm = 25 t leaves the sheets apart, and the next substep that runs the
-  // proximity stage (one in four) restores the thickness between them.
+  // One plunge of 5 cm = 25 t leaves the sheets apart, and the next substeps' proximity stage
+  // restores the thickness between them.
   EXPECT_GE(contact.minPairDistance(end, 0.01), 0.1 * t);
   Points still = end;
   for (int k = 0; k < 4; ++k) {
