@@ -1,26 +1,34 @@
 #!/usr/bin/env bash
 # Cost of self-collision against the particle count (docs/benchmark.md, "Self-collision"): the
-# fold scene at N x N particles (--resolution, automatic thickness), its corner carried over
-# the cloth in 1.5 s and let go (--fold), 3 s, with self-collision on and off, one thread.
+# fold scene at N x N particles (--resolution, automatic thickness: 2 mm in mode triangles, the
+# mean rest edge in mode particles), its corner carried over the cloth in 1.5 s and let go
+# (--fold), 3 s, with self-collision off, in mode triangles and in mode particles, one thread.
 # Writes bench/results/self_collision.csv (one row per run) and self_collision.md (the table).
-# Usage: bench/self_collision.sh [N ...]   (default 32 45 64 90 128: 1k to 16k particles)
+# Usage: bench/self_collision.sh [N ...]   (default 32 64 128: 1k to 16k particles)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../scripts/env.sh"
 RUN="$WS/devel/lib/cloth_sim/cloth_sim_run"
 OUT="$REPO_ROOT/bench/results"
 sizes=("$@")
-[ ${#sizes[@]} -gt 0 ] || sizes=(32 45 64 90 128)
+[ ${#sizes[@]} -gt 0 ] || sizes=(32 64 128)
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+SCENE="$REPO_ROOT/config/scenes/fold.yaml"
+# The same scene in mode particles.
+sed 's/^self_collision:.*/self_collision: {mode: particles, friction: 0.3}/' "$SCENE" \
+  > "$tmp/fold_particles.yaml"
 echo "n,particles,self_collision,load_before,load_after,cpu_s,csv" > "$tmp/runs.csv"
 for n in "${sizes[@]}"; do
-  for mode in off on; do
+  for mode in off triangles particles; do
     load_before=$(cut -d' ' -f1 /proc/loadavg)
+    scene="$SCENE" on=on
+    [ "$mode" = particles ] && scene="$tmp/fold_particles.yaml"
+    [ "$mode" = off ] && on=off
     # CPU time (user + system) of the whole run as well as the wall times of the CSV: on a
     # loaded machine the wall time of a step includes the time others had the core.
-    /usr/bin/time -f "%U %S" -o "$tmp/time" "$RUN" --scene "$REPO_ROOT/config/scenes/fold.yaml" \
-        --resolution "$n" --fold 1.5 --duration 3 --self-collision "$mode" --quiet \
+    /usr/bin/time -f "%U %S" -o "$tmp/time" "$RUN" --scene "$scene" \
+        --resolution "$n" --fold 1.5 --duration 3 --self-collision "$on" --quiet \
         --csv "$tmp/fold_${n}_${mode}.csv"
     cpu=$(awk '{print $1 + $2}' "$tmp/time")
     echo "$n,$((n * n)),$mode,$load_before,$(cut -d' ' -f1 /proc/loadavg),$cpu,$tmp/fold_${n}_${mode}.csv" \

@@ -39,22 +39,24 @@ def main(runs_csv, out_dir):
         w.writeheader()
         w.writerows(rows)
     with open(out_dir + "/self_collision.md", "w") as f:
-        f.write("| grid | particles | CPU per frame off (ms) | CPU per frame on (ms) | added CPU "
-                "(ms) | added per particle (us) | self-contact / step (wall) | counter / step "
-                "(wall) | step wall off / on (ms) | max intersecting pairs | load |\n")
-        f.write("|---|---|---|---|---|---|---|---|---|---|---|\n")
+        f.write("| grid | particles | mode | CPU per frame off (ms) | CPU per frame on (ms) | "
+                "added CPU (ms) | added per particle (us) | self-contact / step (wall) | counter "
+                "/ step (wall) | step wall off / on (ms) | max intersecting pairs | load |\n")
+        f.write("|---|---|---|---|---|---|---|---|---|---|---|---|\n")
         by = {(r["n"], r["self_collision"]): r for r in rows}
         for n in sorted({r["n"] for r in rows}):
-            off, on = by.get((n, "off")), by.get((n, "on"))
-            if off is None or on is None:
-                continue
-            s, c, w = on["self_contact_ms_mean"], on["intersection_ms_mean"], on["wall_ms_mean"]
-            added = on["cpu_ms_per_frame"] - off["cpu_ms_per_frame"]
-            f.write(f"| {n} x {n} | {on['particles']} | {off['cpu_ms_per_frame']:.1f} | "
-                    f"{on['cpu_ms_per_frame']:.1f} | {added:.1f} | "
-                    f"{1e3 * added / on['particles']:.2f} | {100 * s / w:.0f} % | "
-                    f"{100 * c / w:.0f} % | {off['wall_ms_mean']:.0f} / {w:.0f} | "
-                    f"{on['max_intersections']} | {off['load_before']}-{on['load_after']} |\n")
+            off = by.get((n, "off"))
+            for mode in ("triangles", "particles"):
+                on = by.get((n, mode))
+                if off is None or on is None:
+                    continue
+                s, c, w = on["self_contact_ms_mean"], on["intersection_ms_mean"], on["wall_ms_mean"]
+                added = on["cpu_ms_per_frame"] - off["cpu_ms_per_frame"]
+                f.write(f"| {n} x {n} | {on['particles']} | {mode} | "
+                        f"{off['cpu_ms_per_frame']:.1f} | {on['cpu_ms_per_frame']:.1f} | "
+                        f"{added:.1f} | {1e3 * added / on['particles']:.2f} | {100 * s / w:.0f} % | "
+                        f"{100 * c / w:.0f} % | {off['wall_ms_mean']:.0f} / {w:.0f} | "
+                        f"{on['max_intersections']} | {off['load_before']}-{on['load_after']} |\n")
 
 
 if __name__ == "__main__":
