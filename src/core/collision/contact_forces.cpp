@@ -281,7 +281,9 @@ void ContactForces::update(const NodeBuffer& x) {
   for (Contact& c : contacts_) relinearize(c, x);
   for (Contact& c : contacts_) {
     c.lambda = std::max(0.0, c.lambda - kRelaxation * gap(c, x) / c.response);
-    const double mu = c.body < 0 ? c.mu : bodies_[c.body].friction;
+    // Still contacts take their friction after the solve (applyStillFriction), exactly.
+    if (c.body < 0) continue;
+    const double mu = bodies_[c.body].friction;
     if (mu <= 0.0) continue;
     // Slip of the contact point over the step, relative to the collider's surface point.
     Vec3 point = Vec3::Zero();
@@ -341,6 +343,31 @@ void ContactForces::finish(Colliders& colliders) {
       if (c.weight[j] > 0.0) vertex_force_[forceKey(c.source, c.vertex[j])] += c.lambda * c.weight[j];
     }
   }
+}
+
+int ContactForces::applyStillFriction(const Eigen::VectorXd& mass, Points& positions,
+                                      Points& velocities) const {
+  int stuck = 0;
+  for (const Contact& c : contacts_) {
+    if (c.body >= 0 || c.mu <= 0.0) continue;
+    const int p = c.vertex[0];
+    // The normal correction that ends the step on the surface: the force's lambda h_i^2 / m
+    // minus the gap it left (the projection after the solve lifts a particle still below; an
+    // unconverged or extrapolated iterate may end above). Coulomb's law lets friction cancel at
+    // most mu times that of the tangential motion.
+    const double gap = (Vec3(positions.col(p)) - c.anchor).dot(c.normal);
+    const double budget = c.mu * (c.lambda * implicit_h_ * implicit_h_ / mass[p] - gap);
+    if (budget <= 0.0) continue;
+    const Vec3 moved = positions.col(p) - start_.col(p);
+    const Vec3 tangential = moved - moved.dot(c.normal) * c.normal;
+    const double slide = tangential.norm();
+    const Vec3 cut = slide <= budget ? tangential : Vec3((budget / slide) * tangential);
+    if (slide <= budget) ++stuck;
+    positions.col(p) -= cut;
+    // d v_{n+1} / d x_{n+1} = 1 / h_i for implicit Euler (h_i = h) and BDF2 (h_i = 2h/3).
+    velocities.col(p) -= cut / implicit_h_;
+  }
+  return stuck;
 }
 
 int ContactForces::activeCount() const {

@@ -33,6 +33,7 @@ void SubstepPipeline::run(const SubstepWorld& world, const PinSet& pins, double 
   // Only a solver that solved the contacts this step has fresh ball positions to hand over.
   if (solved.used_contacts) {
     contacts_.finish(colliders);
+    contacts_.applyStillFriction(model.mass, state.positions, state.velocities);
     report.contacts += contacts_.activeCount();
   }
   const auto t_self = std::chrono::steady_clock::now();

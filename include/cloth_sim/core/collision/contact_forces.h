@@ -78,6 +78,14 @@ class ContactForces {
   /// keeps the forces for the next step's warm start.
   void finish(Colliders& colliders);
 
+  /// Coulomb friction of the still contacts (ground, mesh obstacles) on the solved step: each
+  /// contact's tangential motion over the step (@p positions, 3 x N, particle order, from the
+  /// step's start) is cancelled when it is at most mu lambda h_i^2 / m (static friction) and cut
+  /// by that much otherwise (sliding), the velocities changed by the same amount / h_i. Exact in
+  /// one step whatever the iterations did, so a cloth at rest inside the friction cone does not
+  /// creep. Returns the contacts that stuck.
+  int applyStillFriction(const Eigen::VectorXd& mass, Points& positions, Points& velocities) const;
+
   bool empty() const { return contacts_.empty(); }
   /// Contacts of this step that push (lambda > 0): a contact point on a triangle, an edge or a
   /// vertex (spheres) or a particle (ground, mesh obstacles).
