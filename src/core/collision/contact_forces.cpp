@@ -288,14 +288,10 @@ void ContactForces::update(const NodeBuffer& x) {
     // Slip of the contact point over the step, relative to the collider's surface point.
     Vec3 point = Vec3::Zero();
     for (int j = 0; j < 3; ++j) point += c.weight[j] * nodeAt(x, c.offset[j]);
-    Vec3 slip = point - c.start;
-    double response = c.response;
-    if (c.body >= 0) {
-      const Body& b = bodies_[c.body];
-      slip -= (b.center - b.old) + h_ * b.spin.cross(b.radius * c.normal);
-      // The spin's response adds h^2 r^2 / I (r = radius) to the tangential response.
-      response += h2 * b.radius * b.radius * b.inv_inertia;
-    }
+    const Body& b = bodies_[c.body];
+    const Vec3 slip = point - c.start - (b.center - b.old) - h_ * b.spin.cross(b.radius * c.normal);
+    // The spin's response adds h^2 r^2 / I (r = radius) to the tangential response.
+    const double response = c.response + h2 * b.radius * b.radius * b.inv_inertia;
     const Vec3 tangential = slip - slip.dot(c.normal) * c.normal;
     c.friction -= kRelaxation * tangential / response;
     c.friction -= c.friction.dot(c.normal) * c.normal;
