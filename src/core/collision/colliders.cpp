@@ -211,7 +211,7 @@ void applySphereReactions(const CollisionStep& step, const std::vector<SphereRea
       if (dist >= allowed || dist < 1e-12) continue;
       const Vec3 push = (allowed - dist) * d / dist;
       end.col(i) += push;
-      velocities.col(i) = (end.col(i) - step.start.col(i)) / h;
+      velocities.col(i) += step.velocityGain() * push;
       s.velocity -= step.mass[i] * push / (h * s.mass);
     }
   }
@@ -282,6 +282,7 @@ int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& e
   int corrected = 0;
   for (Eigen::Index i = 0; i < end.cols(); ++i) {
     if (!step.movable[i]) continue;
+    const Vec3 solved = end.col(i);
     // The solve already applied the ground's and the meshes' friction with their contact
     // forces (ContactForces): what is left here is a small residual, corrected without any.
     const std::optional<Vec3> still_motion =
@@ -294,7 +295,7 @@ int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& e
     // A mesh standing on the ground may push a particle round its bottom edge below it.
     if (ground.enabled) end(2, i) = std::max(end(2, i), ground.height);
     if (hit) {
-      velocities.col(i) = (end.col(i) - step.start.col(i)) / step.h;
+      velocities.col(i) += step.velocityGain() * (end.col(i) - solved);
       ++corrected;
     }
   }

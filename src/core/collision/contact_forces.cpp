@@ -217,8 +217,15 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
     for (int j = 0; j < 3; ++j) {
       if (c.weight[j] <= 0.0) continue;
       const auto it = vertex_force_.find(forceKey(c.source, c.vertex[j]));
-      if (it != vertex_force_.end()) c.lambda += c.weight[j] * it->second / per_vertex[c.vertex[j]];
+      if (it == vertex_force_.end()) continue;
+      c.lambda += c.weight[j] * it->second.normal / per_vertex[c.vertex[j]];
+      // A still contact's friction too: a cloth at rest on a slope is held by last step's
+      // force from the first iteration on, not rebuilt from zero (which let it creep).
+      if (c.body < 0) c.friction += c.weight[j] * it->second.friction / per_vertex[c.vertex[j]];
     }
+    c.friction -= c.friction.dot(c.normal) * c.normal;
+    const double cap = c.mu * c.lambda;
+    if (c.friction.norm() > cap) c.friction *= cap / c.friction.norm();
   }
   indexVertices(particle_node);
   placeBodies();
@@ -281,17 +288,19 @@ void ContactForces::update(const NodeBuffer& x) {
   for (Contact& c : contacts_) relinearize(c, x);
   for (Contact& c : contacts_) {
     c.lambda = std::max(0.0, c.lambda - kRelaxation * gap(c, x) / c.response);
-    // Still contacts take their friction after the solve (applyStillFriction), exactly.
-    if (c.body < 0) continue;
-    const double mu = bodies_[c.body].friction;
+    const double mu = c.body < 0 ? c.mu : bodies_[c.body].friction;
     if (mu <= 0.0) continue;
     // Slip of the contact point over the step, relative to the collider's surface point.
     Vec3 point = Vec3::Zero();
     for (int j = 0; j < 3; ++j) point += c.weight[j] * nodeAt(x, c.offset[j]);
-    const Body& b = bodies_[c.body];
-    const Vec3 slip = point - c.start - (b.center - b.old) - h_ * b.spin.cross(b.radius * c.normal);
-    // The spin's response adds h^2 r^2 / I (r = radius) to the tangential response.
-    const double response = c.response + h2 * b.radius * b.radius * b.inv_inertia;
+    Vec3 slip = point - c.start;
+    double response = c.response;
+    if (c.body >= 0) {
+      const Body& b = bodies_[c.body];
+      slip -= (b.center - b.old) + h_ * b.spin.cross(b.radius * c.normal);
+      // The spin's response adds h^2 r^2 / I (r = radius) to the tangential response.
+      response += h2 * b.radius * b.radius * b.inv_inertia;
+    }
     const Vec3 tangential = slip - slip.dot(c.normal) * c.normal;
     c.friction -= kRelaxation * tangential / response;
     c.friction -= c.friction.dot(c.normal) * c.normal;
@@ -336,32 +345,29 @@ void ContactForces::finish(Colliders& colliders) {
   for (const Contact& c : contacts_) {
     if (c.lambda <= 0.0) continue;
     for (int j = 0; j < 3; ++j) {
-      if (c.weight[j] > 0.0) vertex_force_[forceKey(c.source, c.vertex[j])] += c.lambda * c.weight[j];
+      if (c.weight[j] <= 0.0) continue;
+      Force& f = vertex_force_[forceKey(c.source, c.vertex[j])];
+      f.normal += c.lambda * c.weight[j];
+      f.friction += c.friction * c.weight[j];
     }
   }
 }
 
-int ContactForces::applyStillFriction(const Eigen::VectorXd& mass, Points& positions,
-                                      Points& velocities) const {
+int ContactForces::completeStaticFriction(Points& positions, Points& velocities) const {
   int stuck = 0;
   for (const Contact& c : contacts_) {
-    if (c.body >= 0 || c.mu <= 0.0) continue;
+    if (c.body >= 0 || c.mu <= 0.0 || c.lambda <= 0.0) continue;
     const int p = c.vertex[0];
-    // The normal correction that ends the step on the surface: the force's lambda h_i^2 / m
-    // minus the gap it left (the projection after the solve lifts a particle still below; an
-    // unconverged or extrapolated iterate may end above). Coulomb's law lets friction cancel at
-    // most mu times that of the tangential motion.
-    const double gap = (Vec3(positions.col(p)) - c.anchor).dot(c.normal);
-    const double budget = c.mu * (c.lambda * implicit_h_ * implicit_h_ / mass[p] - gap);
-    if (budget <= 0.0) continue;
     const Vec3 moved = positions.col(p) - start_.col(p);
-    const Vec3 tangential = moved - moved.dot(c.normal) * c.normal;
-    const double slide = tangential.norm();
-    const Vec3 cut = slide <= budget ? tangential : Vec3((budget / slide) * tangential);
-    if (slide <= budget) ++stuck;
-    positions.col(p) -= cut;
-    // d v_{n+1} / d x_{n+1} = 1 / h_i for implicit Euler (h_i = h) and BDF2 (h_i = 2h/3).
-    velocities.col(p) -= cut / implicit_h_;
+    const Vec3 slip = moved - moved.dot(c.normal) * c.normal;
+    // The friction that would cancel what the iterations left of the slip (one full projected
+    // Jacobi step): inside the cone the contact sticks, and that slip is taken out, so a resting
+    // cloth never creeps; outside it slides as the solve left it.
+    if ((c.friction - slip / c.response).norm() > c.mu * c.lambda) continue;
+    positions.col(p) -= slip;
+    // d v_{n+1} / d x_{n+1} = 1 / h_i for implicit Euler (h_i = h) and BDF2.
+    velocities.col(p) -= slip / implicit_h_;
+    ++stuck;
   }
   return stuck;
 }

@@ -24,8 +24,11 @@ void SubstepPipeline::run(const SubstepWorld& world, const PinSet& pins, double 
   }
   const Points start = state.positions, start_velocities = state.velocities;
   colliders.advance(h, model.gravity, velocityDecay(model, h));
+  // The integrator's own velocity change per metre of correction (from the state before it).
+  const double implicit_h =
+      StepRecurrence::of(state, h, world.settings.integrator, model.damping).implicit_h;
   const CollisionStep collision{h,     model.mass,        world.movable,
-                                start, &start_velocities, model.gravity};
+                                start, &start_velocities, model.gravity, implicit_h};
   contacts_.beginStep(collision, colliders);
   const SolveResult solved = solve(world, input, report);
   // The loads of the solve itself, before the collision response moves soft-pinned particles.
@@ -33,7 +36,7 @@ void SubstepPipeline::run(const SubstepWorld& world, const PinSet& pins, double 
   // Only a solver that solved the contacts this step has fresh ball positions to hand over.
   if (solved.used_contacts) {
     contacts_.finish(colliders);
-    contacts_.applyStillFriction(model.mass, state.positions, state.velocities);
+    contacts_.completeStaticFriction(state.positions, state.velocities);
     report.contacts += contacts_.activeCount();
   }
   const auto t_self = std::chrono::steady_clock::now();

@@ -92,6 +92,13 @@ struct CollisionStep {
   /// normal correction.
   const Points* velocities = nullptr;
   Vec3 gravity = Vec3::Zero();       ///< m/s^2, with velocities
+  /// s, the implicit step h_i of the step's integrator (StepRecurrence): its end velocity
+  /// changes by 1 / h_i per metre its end position moves (implicit Euler h, BDF2 2h/3, implicit
+  /// midpoint h/2), so a correction after the solve keeps the velocity the integrator's own.
+  /// 0: h.
+  double implicit_h = 0.0;
+  /// 1 / h_i (1/s): the velocity change per unit of end-position correction.
+  double velocityGain() const { return 1.0 / (implicit_h > 0.0 ? implicit_h : h); }
   /// Displacement (m) particle @p i would make over the step without internal or contact
   /// forces, h v + h^2 g; null without velocities.
   std::optional<Vec3> freeMotion(Eigen::Index i) const {

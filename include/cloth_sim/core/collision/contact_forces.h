@@ -78,13 +78,13 @@ class ContactForces {
   /// keeps the forces for the next step's warm start.
   void finish(Colliders& colliders);
 
-  /// Coulomb friction of the still contacts (ground, mesh obstacles) on the solved step: each
-  /// contact's tangential motion over the step (@p positions, 3 x N, particle order, from the
-  /// step's start) is cancelled when it is at most mu lambda h_i^2 / m (static friction) and cut
-  /// by that much otherwise (sliding), the velocities changed by the same amount / h_i. Exact in
-  /// one step whatever the iterations did, so a cloth at rest inside the friction cone does not
-  /// creep. Returns the contacts that stuck.
-  int applyStillFriction(const Eigen::VectorXd& mass, Points& positions, Points& velocities) const;
+  /// Static friction of the still contacts (ground, mesh obstacles) completed after the solve:
+  /// a contact whose friction force ended strictly inside its cone (|f| < mu lambda: it sticks)
+  /// has the tangential slip the iterations left taken out of its end position (@p positions,
+  /// 3 x N, particle order, from the step's start), its velocity changed by the same amount /
+  /// h_i. Sliding contacts keep what the solve gave them. So a cloth at rest inside the friction
+  /// cone does not creep, whatever the iteration count. Returns the contacts that stuck.
+  int completeStaticFriction(Points& positions, Points& velocities) const;
 
   bool empty() const { return contacts_.empty(); }
   /// Contacts of this step that push (lambda > 0): a contact point on a triangle, an edge or a
@@ -163,7 +163,13 @@ class ContactForces {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(source)) << 32) |
            static_cast<std::uint32_t>(vertex);
   }
-  std::unordered_map<std::uint64_t, double> vertex_force_;  ///< forceKey(source, vertex) -> N
+  /// Last step's force on a vertex from one source: normal (N) and, for still contacts,
+  /// friction (N, tangential), the warm start of the next step.
+  struct Force {
+    double normal = 0.0;
+    Vec3 friction = Vec3::Zero();
+  };
+  std::unordered_map<std::uint64_t, Force> vertex_force_;  ///< forceKey(source, vertex) -> force
 };
 
 }  // namespace cloth_sim
