@@ -1,5 +1,7 @@
 #include "cloth_sim/core/solvers/solver.h"
 
+#include <algorithm>
+
 #include <cassert>
 #include <cstddef>
 #include <stdexcept>
@@ -119,10 +121,24 @@ void Solver::requireSettings(const SolverSettings& settings) const {
   requireIntegrator(*this, settings.integrator);
 }
 
+double IterationError::add(double change) {
+  double rate = 0.5;
+  if (last_change_ > 0.0) rate = std::min(kMaxRate, change / last_change_);
+  else if (last_change_ == 0.0) rate = 0.0;
+  last_change_ = change;
+  estimate_ = change * rate / (1.0 - rate);
+  return estimate_;
+}
+
 void SolverSettings::validate() const {
   settings::kIterations.require(max_iterations);
   settings::kSubsteps.require(substeps);
   settings::kTolerance.require(tolerance);
+  settings::kErrorTolerance.require(error_tolerance);
+  if (substeps == 0 && error_tolerance <= 0.0) {
+    throw std::invalid_argument(
+        "solver.substeps 0 (chosen by the error estimate) needs solver.error_tolerance > 0");
+  }
   params.validate();
 }
 

@@ -64,7 +64,8 @@ inline constexpr NameSetting kIntegrator{"solver.integrator", "integrator",
 // clang-format off
 //                                  name                         param                   range                              int    unit      note                 doc                                                   slider
 inline constexpr Setting kIterations{"solver.iterations",       "iterations",           Range::closed(1, 100000),           true,  "",       "",                  "Solver iterations per step (a cap for newton)",     0};
-inline constexpr Setting kSubsteps{"solver.substeps",           "substeps",             Range::closed(1, 1000),             true,  "",       "",                  "Implicit steps per frame (each time_step / substeps)", 0};
+inline constexpr Setting kSubsteps{"solver.substeps",           "substeps",             Range::closed(0, 1000),             true,  "",       "(0 = chosen by the error estimate)", "Implicit steps per frame (each time_step / substeps); 0: chosen to meet error_tolerance", 0};
+inline constexpr Setting kErrorTolerance{"solver.error_tolerance", "error_tolerance",   Range::closed(0, 1),                false, "m",      "(0 = fixed iterations)", "Position error a frame may make (RMS): iterations and substeps follow it", 0.01};
 inline constexpr Setting kTolerance{"solver.tolerance",         "",                     Range::atLeast(0),                  false, "",       "",                  "Stop below this relative position change (0 = never)", 0};
 inline constexpr Setting kTimeStep{"time_step",                 "",                     Range::closed(1e-6, 1),             false, "s",      "",                  "Time step h",                                        0};
 inline constexpr Setting kDivergenceStrain{"divergence_strain", "",                     Range::atLeast(1),                  false, "",       "(1 = 100 %)",       "Strain beyond which a step counts as diverged",      0};
@@ -110,7 +111,7 @@ inline constexpr Setting kGravity{"gravity",                    "",             
 
 /// Every setting above, in that order (a solver's own settings are in its registry entry).
 inline constexpr const Setting* kAllSettings[] = {
-    &kIterations, &kSubsteps, &kTolerance, &kTimeStep,
+    &kIterations, &kSubsteps, &kErrorTolerance, &kTolerance, &kTimeStep,
     &kDivergenceStrain, &kArealDensity, &kDamping,
     &kStructuralStiffness, &kShearStiffness, &kBendingStiffness, &kParticleMass,
     &kRestLength, &kGridResolution, &kGridSize, &kMeshScale,
