@@ -51,6 +51,7 @@ add_library(cloth_sim_core
   src/core/simulation/substep.cpp
   src/core/simulation/simulation.cpp
   src/core/simulation/frame_budget.cpp
+  src/core/simulation/step_controller.cpp
   src/core/io/scene_fields.cpp
   src/core/io/scene_reader.cpp
   src/core/io/scene_builder.cpp
@@ -83,6 +84,7 @@ if(CATKIN_ENABLE_TESTING)
     model/model_test model/pins_test model/spring_kernels_test model/strain_field_test
     model/grid_builder_test model/triangle_mesh_test model/mesh_builder_test
     collision/colliders_test collision/mesh_obstacle_test collision/sphere_impacts_test
+    collision/friction_test
     collision/dynamic_spheres_test collision/contact_random_test
     collision/cell_hash_test collision/triangle_intersection_test collision/self_contact_test
     collision/self_contact_scenes_test
@@ -94,6 +96,7 @@ if(CATKIN_ENABLE_TESTING)
     solvers/baselines/xpbd_solver_test
     simulation/step_report_test simulation/grasp_set_test simulation/frame_inputs_test
     simulation/simulation_test simulation/substeps_test simulation/frame_budget_test
+    simulation/error_control_test
     simulation/grasp_test
     io/scene_test io/bad_scene_random_test
     settings/settings_table_test)

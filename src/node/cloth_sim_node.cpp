@@ -192,6 +192,12 @@ void ClothSimNode::stepFrame() {
 void ClothSimNode::adaptSubsteps() {
   if (!budget_) return;
   SolverSettings settings = sim_.solverSettings();
+  if (settings.automaticSubsteps()) {
+    // The error estimate chooses the substeps; the budget only bounds them (the reports say
+    // when the tolerance needs more: StepReport::tolerance_unreachable).
+    sim_.setSubstepLimit(budget_->next(sim_.substeps(), last_report_.wall_time));
+    return;
+  }
   const int chosen = budget_->next(settings.substeps, last_report_.wall_time);
   if (chosen == settings.substeps) return;
   settings.substeps = chosen;

@@ -97,7 +97,7 @@ int SelfContact::limitDisplacement(const CollisionStep& step, Points& end,
     const double length = move.norm();
     if (!(length > cap)) continue;  // also leaves a non-finite move to the step's check
     const Vec3 capped = move * (cap / length);
-    velocities.col(i) += step.velocityGain() * (capped - move);
+    velocities.col(i) += (capped - move) / step.h;
     end.col(i) = step.start.col(i) + capped;
     ++limited;
   }
@@ -162,7 +162,7 @@ int SelfContact::resolve(const CollisionStep& step, const GroundPlane& ground, P
   for (Eigen::Index i = 0; i < end.cols(); ++i) {
     const Vec3 delta = end.col(i) - before_.col(i);
     if (delta.isZero(0.0)) continue;
-    velocities.col(i) += step.velocityGain() * delta;
+    velocities.col(i) += delta / step.h;
     ++moved;
   }
   return moved;

@@ -83,40 +83,45 @@ ImplicitStepProblem ImplicitStepProblem::build(const Model& model, const PinSet&
   return p;
 }
 
-double localErrorEstimate(const Model& model, const PinSet& pins, const State& before,
-                          const State& after, double h, Integrator integrator) {
-  const Eigen::Index n = before.positions.cols();
+double localErrorEstimate(const Model& model, const PinSet& pins, const State& after,
+                          const Points& older_velocities, double older_step,
+                          Integrator integrator, const std::vector<char>& skip) {
+  const Eigen::Index n = after.positions.cols();
+  if (!after.has_previous || after.previous_step <= 0.0) return 0.0;
   std::vector<char> free(static_cast<std::size_t>(n), 1);
   for (const Pin& pin : pins.pins()) {
     if (pin.isHard()) free[pin.vertex] = 0;
   }
-  const bool history = before.has_previous && before.previous_step > 0.0 &&
-                       before.previous_velocities.cols() == n;
-  const bool third_order = history && integrator != Integrator::kImplicitEuler;
+  for (std::size_t i = 0; i < skip.size() && i < free.size(); ++i) {
+    if (skip[i]) free[i] = 0;
+  }
+  const double h = after.previous_step;
+  const Points& x_n = after.previous_positions;
+  const Points& v_n = after.previous_velocities;
+  const bool third_order = integrator != Integrator::kImplicitEuler && older_step > 0.0 &&
+                           older_velocities.cols() == n;
   double weight = 0.0;
   if (third_order) {
-    // The third derivative from the velocities' second divided difference:
+    // x''' from the velocities' second divided difference:
     // x''' ~ 2 ((v_{n+1} - v_n) / h - (v_n - v_{n-1}) / h_p) / (h + h_p); error C h^3 x'''.
-    const double hp = before.previous_step, omega = h / hp;
+    const double omega = h / older_step;
     const double c = integrator == Integrator::kBdf2
                          ? (1.0 + omega) * (1.0 + omega) / (6.0 * omega * (1.0 + 2.0 * omega))
                          : 1.0 / 12.0;
-    weight = c * h * h * h * 2.0 / (h + hp);
+    weight = c * h * h * h * 2.0 / (h + older_step);
   }
-  const StepRecurrence euler =
-      StepRecurrence::of(before, h, Integrator::kImplicitEuler, model.damping);
+  const double hq = h * std::exp(-model.damping * h);
   double sum = 0.0;
   int count = 0;
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!free[i]) continue;
     Vec3 e;
     if (third_order) {
-      const Vec3 slope_new = (after.velocities.col(i) - before.velocities.col(i)) / h;
-      const Vec3 slope_old =
-          (before.velocities.col(i) - before.previous_velocities.col(i)) / before.previous_step;
+      const Vec3 slope_new = (after.velocities.col(i) - v_n.col(i)) / h;
+      const Vec3 slope_old = (v_n.col(i) - older_velocities.col(i)) / older_step;
       e = weight * (slope_new - slope_old);
     } else {
-      e = 0.5 * (after.positions.col(i) - euler.inertial(before, i));
+      e = 0.5 * (after.positions.col(i) - x_n.col(i) - hq * v_n.col(i));
     }
     sum += e.squaredNorm();
     ++count;

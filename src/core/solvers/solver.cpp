@@ -117,8 +117,21 @@ void requireIntegrator(const Solver& solver, Integrator integrator) {
                               implicit + ")");
 }
 
+void requireErrorControl(const Solver& solver, const SolverSettings& settings) {
+  if (settings.error_tolerance <= 0.0 || solverEntry(solver.name()).capabilities.tolerance) return;
+  std::string able;
+  for (const SolverEntry& entry : solverRegistry()) {
+    if (entry.capabilities.tolerance) able += (able.empty() ? "" : ", ") + std::string(entry.name);
+  }
+  throw std::invalid_argument(
+      std::string("solver.error_tolerance > 0 (error control) is not supported by ") +
+      solver.name() + ", which does not iterate to a tolerance (solvers that do: " + able +
+      "); set solver.error_tolerance: 0 and a number of solver.substeps");
+}
+
 void Solver::requireSettings(const SolverSettings& settings) const {
   requireIntegrator(*this, settings.integrator);
+  requireErrorControl(*this, settings);
 }
 
 double IterationError::add(double change) {

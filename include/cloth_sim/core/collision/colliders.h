@@ -99,6 +99,9 @@ struct CollisionStep {
   double implicit_h = 0.0;
   /// 1 / h_i (1/s): the velocity change per unit of end-position correction.
   double velocityGain() const { return 1.0 / (implicit_h > 0.0 ? implicit_h : h); }
+  /// The state's v_n (State::previous_velocities) of a multistep integrator (BDF2), or null: a
+  /// contact restarts it along its normal (see resolveCollisions).
+  Points* history_velocities = nullptr;
   /// Displacement (m) particle @p i would make over the step without internal or contact
   /// forces, h v + h^2 g; null without velocities.
   std::optional<Vec3> freeMotion(Eigen::Index i) const {

@@ -78,18 +78,25 @@ class ContactForces {
   /// keeps the forces for the next step's warm start.
   void finish(Colliders& colliders);
 
-  /// Static friction of the still contacts (ground, mesh obstacles) completed after the solve:
-  /// a contact whose friction force ended strictly inside its cone (|f| < mu lambda: it sticks)
-  /// has the tangential slip the iterations left taken out of its end position (@p positions,
-  /// 3 x N, particle order, from the step's start), its velocity changed by the same amount /
-  /// h_i. Sliding contacts keep what the solve gave them. So a cloth at rest inside the friction
-  /// cone does not creep, whatever the iteration count. Returns the contacts that stuck.
-  int completeStaticFriction(Points& positions, Points& velocities) const;
+  /// Friction of the still contacts (ground, mesh obstacles) completed after the solve, one
+  /// full projected Jacobi step on the positions the iterations reached (@p positions, 3 x N,
+  /// particle order): a contact whose friction can cancel what is left of its slip within the
+  /// cone mu lambda sticks (that slip is taken out of its end position), the others slide with
+  /// the friction mu lambda against it; each velocity changes by its position's change / h_i.
+  /// So a cloth at rest inside the friction cone does not creep and one outside slides at
+  /// g_t - mu g_n, whatever the iteration count left. Returns the contacts that stuck.
+  /// Under a multistep integrator (BDF2: h_i < h) every pushing still contact also restarts its
+  /// particle's velocity along the normal, and that of @p history_velocities (State::
+  /// previous_velocities, or null), as resolveCollisions does: contacts are inelastic.
+  int completeFriction(Points& positions, Points& velocities, Points* history_velocities) const;
 
   bool empty() const { return contacts_.empty(); }
   /// Contacts of this step that push (lambda > 0): a contact point on a triangle, an edge or a
   /// vertex (spheres) or a particle (ground, mesh obstacles).
   int activeCount() const;
+  /// Sets @p mask[i] (one per particle) for every particle an active contact of this step
+  /// touches.
+  void markTouched(std::vector<char>& mask) const;
 
  private:
   struct Contact {

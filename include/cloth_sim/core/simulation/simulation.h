@@ -16,6 +16,7 @@
 #include "cloth_sim/core/simulation/grasp.h"
 #include "cloth_sim/core/simulation/grasp_set.h"
 #include "cloth_sim/core/simulation/step_report.h"
+#include "cloth_sim/core/simulation/step_controller.h"
 #include "cloth_sim/core/simulation/substep.h"
 #include "cloth_sim/core/solvers/midpoint_safeguard.h"
 #include "cloth_sim/core/solvers/solver.h"
@@ -124,8 +125,23 @@ class Simulation {
   /// s of simulated time one step() advances: the scene's time_step
   /// (SimulationOptions::frame_time).
   double frameTime() const { return options_.frame_time; }
-  /// s, the implicit step h of each substep: frameTime() / SolverSettings::substeps.
-  double substepTime() const { return options_.frame_time / options_.settings.substeps; }
+  /// Substeps of the next frame: SolverSettings::substeps, or with automatic substeps the error
+  /// controller's choice.
+  int substeps() const { return substeps_; }
+  /// s, the implicit step h of each substep of the next frame: frameTime() / substeps().
+  double substepTime() const { return options_.frame_time / substeps_; }
+  /// The most substeps a frame may take with automatic substeps (a frame budget sets it; at
+  /// most kMaxAutomaticSubsteps, at least 1). The reports say when the tolerance needs more.
+  void setSubstepLimit(int max_substeps) {
+    controller_.setMaxSubsteps(std::min(max_substeps, kMaxAutomaticSubsteps));
+  }
+  /// Automatic substeps: at most this many per frame...
+  static constexpr int kMaxAutomaticSubsteps = 128;
+  /// ... and this many at the first frame (the controller takes it from there).
+  static constexpr int kFirstAutomaticSubsteps = 8;
+  /// Share of a substep's part of the frame's error tolerance (error_tolerance / substeps) its
+  /// iterations may leave (SolverInput::iteration_tolerance); the rest is for truncation.
+  static constexpr double kIterationShare = 0.5;
   const State& state() const { return state_; }
   /// m, the positions the simulation started from (and reset() returns to).
   const Points& initialPositions() const { return initial_state_.positions; }
@@ -166,14 +182,15 @@ class Simulation {
   enum Change : unsigned {
     kPinSet = 1u << 0,      ///< pins added or removed, or their vertices or stiffness differ
     kStiffness = 1u << 1,   ///< a spring family's stiffness
-    kStepSize = 1u << 2,    ///< the implicit step h (frame time or substeps)
+    kControl = 1u << 2,     ///< the substeps or the error tolerance (SolverSettings)
     kIntegrator = 1u << 3,  ///< SolverSettings::integrator: another matrix
     kRestart = 1u << 4,     ///< the state was put back (rollback, reset, resetCloth)
   };
   /// Decides from @p changes (Change bits) what follows an edit: a new revision (pin set,
-  /// stiffness, step size, integrator), no BDF2 history (pin set: a new pin's particle has none
-  /// on its target; step size: the history is for the old step; restart), the movable mask
-  /// (pin set) and zero pin loads (pin set, restart).
+  /// stiffness, integrator), no BDF2 history (pin set: a new pin's particle has none on its
+  /// target; restart), the movable mask (pin set), zero pin loads (pin set, restart), the
+  /// substeps in use and their controller (control). A new step size needs nothing: BDF2 takes
+  /// variable steps and the solvers keep a factor per step size.
   void changed(unsigned changes);
   /// Rolls the cloth and spheres back to @p state and @p colliders (zero velocities) and
   /// forgets the contact warm start that led there.
@@ -196,6 +213,8 @@ class Simulation {
   FrameInputs inputs_;
   GraspSet grasps_;
   SubstepPipeline substep_;
+  int substeps_ = 0;                     ///< of the next frame, see substeps()
+  StepController controller_{1.0, 1, 1, 1};  ///< automatic substeps (set up by changed)
   std::vector<Vec3> pin_loads_;  ///< N, see pinLoads()
 };
 

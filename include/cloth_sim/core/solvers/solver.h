@@ -226,6 +226,10 @@ class Solver {
 /// unless @p solver supports @p integrator.
 void requireIntegrator(const Solver& solver, Integrator integrator);
 
+/// Throws std::invalid_argument unless @p solver can honour @p settings' error control
+/// (SolverSettings::error_tolerance > 0 needs a solver that iterates to a tolerance).
+void requireErrorControl(const Solver& solver, const SolverSettings& settings);
+
 /// The names makeSolver accepts, from solverRegistry() (solvers/registry.h).
 std::vector<std::string> solverNames();
 /// A new solver by name; throws std::invalid_argument listing the valid names if unknown.
