@@ -302,6 +302,9 @@ void ClothSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status)
   in.solver = sim_.solver().name();
   in.substeps = sim_.solverSettings().substeps;
   in.iterations = sim_.solverSettings().max_iterations;
+  in.error_tolerance = sim_.solverSettings().error_tolerance;
+  in.error_estimate = last_report_.error_estimate;
+  in.tolerance_unreachable = last_report_.tolerance_unreachable;
   in.frame_budget = budget_ ? budget_->budget() : 0.0;
   in.window = monitor_.takeWindow();
   in.real_time_factor = real_time_.take(ros::SteadyTime::now().toSec());

@@ -109,6 +109,11 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
   read.get("solver", o.solver);
   read.get("iterations", o.iterations);
   read.get("substeps", o.substeps);
+  if (private_params.valid() && private_params.hasMember("error_tolerance")) {
+    double tolerance = 0.0;
+    read.get("error_tolerance", tolerance);
+    o.error_tolerance = tolerance;
+  }
   if (private_params.valid() && private_params.hasMember("self_collision")) {
     bool on = false;
     read.get("self_collision", on);
@@ -159,6 +164,7 @@ void validateNodeOptions(const NodeOptions& o) {
        {std::pair<double, const Setting*>{o.render_rate, &settings::kRenderRate},
         {static_cast<double>(o.iterations), &kIterationsOverride},
         {static_cast<double>(o.substeps), &kSubstepsOverride},
+        {o.error_tolerance.value_or(0.0), &settings::kErrorTolerance},
         {static_cast<double>(o.max_rollbacks), &settings::kMaxRollbacks},
         {o.strain_color_scale, &settings::kStrainColorScale},
         {o.sphere_cull_distance, &settings::kSphereCullDistance},
@@ -206,6 +212,7 @@ SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir) 
   if (!options.solver.empty()) overrides.solver = options.solver;
   if (options.iterations > 0) overrides.iterations = options.iterations;
   if (options.substeps > 0) overrides.substeps = options.substeps;
+  overrides.error_tolerance = options.error_tolerance;
   overrides.self_collision = options.self_collision;
   return applyOverrides(std::move(scene), overrides);
 }

@@ -32,6 +32,10 @@ struct NodeOptions {
   /// ~substeps: replaces the scene's implicit steps per frame when > 0; 0 keeps the scene's
   /// (range: settings::kSubsteps).
   int substeps = 0;
+  /// ~error_tolerance, m, [0, 1] (settings::kErrorTolerance): replaces the scene's position
+  /// error a frame may make when given; 0: fixed substeps and iterations. With a scene that
+  /// leaves its substeps to the simulator (or gives 0) the substeps follow it too.
+  std::optional<double> error_tolerance;
   /// ~self_collision: turns the cloth's self-collision on or off whatever the scene says; unset
   /// keeps the scene's (its self_collision field; thickness and friction come from there, or
   /// their defaults). dynamic_reconfigure's self_collision switches it at run time.

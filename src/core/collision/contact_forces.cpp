@@ -226,14 +226,15 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
       if (c.body < 0) c.friction += c.weight[j] * it->second.friction / per_vertex[c.vertex[j]];
     }
     if (!warm && c.body < 0) {
-      // A new still contact starts from the force that would stop the particle's free motion
-      // y + h_i^2 g at the surface (springs aside): exact for a sheet laid on a plane, whose
-      // weight and sliding friction then act from its first iteration.
+      // A new still contact starts from the normal force that would stop the particle's free
+      // motion y + h_i^2 g at the surface (springs aside): a sheet laid on a plane carries its
+      // weight from its first iteration. Its friction starts from zero: a guess from the free
+      // motion alone opposed what the springs then did, and after a fixed handful of
+      // iterations a cloth dragged over a box stretched 37 % where the reference stayed at 1 %.
       const int p = c.vertex[0];
       const Vec3 free_move = Vec3(y.col(p)) + hi2 * model.gravity - start.col(p);
       c.lambda = std::max(0.0, -(Vec3(start.col(p)) + free_move - c.anchor).dot(c.normal)) /
                  c.response;
-      c.friction = -(free_move - free_move.dot(c.normal) * c.normal) / c.response;
     }
     c.friction -= c.friction.dot(c.normal) * c.normal;
     const double cap = c.mu * c.lambda;
@@ -366,7 +367,7 @@ void ContactForces::finish(Colliders& colliders) {
 }
 
 int ContactForces::completeFriction(Points& positions, Points& velocities,
-                                    Points* history_velocities) const {
+                                    Points* history_velocities, bool stick) const {
   int stuck = 0;
   const bool multistep = implicit_h_ != h_;
   for (const Contact& c : contacts_) {
@@ -382,7 +383,7 @@ int ContactForces::completeFriction(Points& positions, Points& velocities,
         history.col(p) += c.normal * (normal_speed - c.normal.dot(history.col(p)));
       }
     }
-    if (c.mu <= 0.0) continue;
+    if (!stick || c.mu <= 0.0) continue;
     const Vec3 moved = positions.col(p) - start_.col(p);
     const Vec3 slip = moved - moved.dot(c.normal) * c.normal;
     // The friction that would cancel what the iterations left of the slip (one full projected

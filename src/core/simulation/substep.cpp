@@ -63,7 +63,8 @@ void SubstepPipeline::collide(const SubstepWorld& world, const PinSet& pins, dou
   if (solved.used_contacts) {
     if (!touched_.empty()) contacts_.markTouched(touched_);
     contacts_.finish(colliders);
-    contacts_.completeFriction(state.positions, state.velocities, collision.history_velocities);
+    contacts_.completeFriction(state.positions, state.velocities, collision.history_velocities,
+                               iteration_tolerance > 0.0);
     report.contacts += contacts_.activeCount();
   }
   const auto t_self = std::chrono::steady_clock::now();
