@@ -163,6 +163,7 @@ Simulation makeSimulation(const SceneConfig& scene) {
   Colliders colliders;
   for (const SphereCollider& s : scene.spheres) colliders.addSphere(s);
   for (const MeshColliderSpec& m : scene.meshes) colliders.addMesh(m.obstacle);
+  for (const BodyCollider& b : scene.bodies) colliders.mutableBodies().add(b);
   colliders.setGround(scene.ground);
   SimulationOptions options = scene.options;
   options.frame_time = scene.time_step;
