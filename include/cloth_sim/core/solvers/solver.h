@@ -183,6 +183,11 @@ class Solver {
   /// Sparse matrix factorizations done so far (numeric ones; Newton does one per iteration).
   /// Virtual for a wrapper (MidpointSafeguard), which counts its inner solver's.
   virtual int factorizationCount() const { return factorizations_; }
+  /// What a step carries over to the next besides the State: the warm start (x - y of the
+  /// last step, 3 x N in particle order), empty when none (Simulation::snapshot).
+  virtual Points carriedOver() const { return Points(); }
+  /// Gives a fresh solver the warm start @p carry that carriedOver() returned (empty: none).
+  virtual void carryOver(const Points& /*carry*/) {}
 
  protected:
   int factorizations_ = 0;

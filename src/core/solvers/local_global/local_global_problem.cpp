@@ -68,6 +68,12 @@ int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& setti
   });
   gravity_ = model.gravity;
   const int n = model.particleCount();
+  if (pending_correction_.cols() == n) {  // a restored warm start, now in this node order
+    correction_.assign(static_cast<std::size_t>(kNodeStride) * n, 0.0);
+    for (int k = 0; k < n; ++k)
+      for (int c = 0; c < 3; ++c) correction_[kNodeStride * k + c] = pending_correction_(c, node_particle_[k]);
+  }
+  pending_correction_.resize(3, 0);
   const Points& y = problem_.inertial;
 
   const Points constant = globalStepConstant(model, in.pins, dofs_, h_, y);
@@ -202,6 +208,14 @@ void LocalGlobalProblem::finishStep(const NodeBuffer& x, State& state) {
   Points positions;
   toParticles(x, positions);
   state = problem_.finish(positions, state.time);
+}
+
+Points LocalGlobalProblem::warmStart() const {
+  Points out;
+  if (!correction_.empty() && correction_.size() == kNodeStride * node_particle_.size()) {
+    toParticles(correction_, out);
+  }
+  return out;
 }
 
 void LocalGlobalProblem::toParticles(const NodeBuffer& x, Points& out) const {
