@@ -20,6 +20,8 @@ add_library(cloth_sim_ros
   src/node/render_pacer.cpp
   src/node/reconfigure_bridge.cpp
   src/node/diagnostics_report.cpp
+  src/node/urdf_colliders.cpp
+  src/node/body_messages.cpp
 )
 target_include_directories(cloth_sim_ros PUBLIC include)
 target_link_libraries(cloth_sim_ros PUBLIC cloth_sim_core ${catkin_LIBRARIES})
@@ -32,6 +34,8 @@ add_executable(cloth_sim_node
   src/node/node_inputs.cpp
   src/node/node_time.cpp
   src/node/node_grasps.cpp
+  src/node/node_colliders.cpp
+  src/node/node_state.cpp
 )
 target_link_libraries(cloth_sim_node cloth_sim_ros)
 
@@ -58,7 +62,7 @@ if(CATKIN_ENABLE_TESTING)
   set(NODE_UNIT_TESTS
     options_test conversions_test frame_resolver_test marker_builder_test step_monitor_test
     pin_handles_test reconfigure_cfg_test grasp_frames_test grasp_output_test render_pacer_test
-    reconfigure_bridge_test diagnostics_report_test)
+    reconfigure_bridge_test diagnostics_report_test urdf_colliders_test body_messages_test)
   foreach(t ${NODE_UNIT_TESTS})
     catkin_add_gtest(node_${t} test/node/${t}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
     target_link_libraries(node_${t} cloth_sim_ros GTest::gtest_main)

@@ -51,6 +51,23 @@ TEST_F(GraspFramesTest, AFrameThatStopsHoldsItsLastPoseAndTurnsStale) {
   EXPECT_FALSE(frames_.find(0)->stale);
 }
 
+TEST_F(GraspFramesTest, BeforeTheBufferTheOldestPoseIsHeldNeverALaterOne) {
+  // A 12 s trajectory published at once into a 10 s buffer: its first 2 s are dropped. Asked
+  // at 1 s, the frame must not jump to the newest pose (12 m away) but hold the oldest kept.
+  for (int k = 0; k <= 120; ++k) buffer_.setTransform(gripperAt(Vec3(0.1 * k, 0, 1), 1.0 + 0.1 * k), "test");
+  frames_.add(0, "gripper", Vec3::Zero(), Pose::Identity());
+  const Pose early = frames_.poseAt(0, ros::Time(2.0));
+  EXPECT_GE(early.translation().x(), 1.95);  // the oldest kept: about 3 s, x = 2 m
+  EXPECT_LE(early.translation().x(), 2.15);
+  EXPECT_TRUE(frames_.find(0)->before_buffer);
+  EXPECT_FALSE(frames_.find(0)->stale);
+  EXPECT_NEAR(frames_.poseAt(0, ros::Time(5.05)).translation().x(), 4.05, 1e-9);  // covered
+  EXPECT_FALSE(frames_.find(0)->before_buffer);
+  const FrameSample late = sampleFrame(buffer_, "world", "gripper", ros::Time(20.0));
+  EXPECT_TRUE(late.after_buffer);
+  EXPECT_NEAR(late.transform.transform.translation.x, 12.0, 1e-9);
+}
+
 TEST_F(GraspFramesTest, RefusesUnknownFramesAndBadOffsets) {
   EXPECT_EQ(test::errorOf([&] { frames_.lookup("nowhere", Vec3::Zero(), ros::Time(1)); }),
             "frame_id 'nowhere' is unknown to tf2 (no transform into 'world' has been published)");
