@@ -78,7 +78,7 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(cloth_sim_rostest_util PUBLIC cloth_sim_ros GTest::gtest)
   target_compile_definitions(cloth_sim_rostest_util PUBLIC
                              CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-  set(NODE_ROSTESTS integration bad_input bad_input_random reconfigure grasp)
+  set(NODE_ROSTESTS integration bad_input bad_input_random reconfigure grasp robot pinch)
   foreach(t ${NODE_ROSTESTS})
     add_rostest_gtest(node_${t}_test test/node/${t}.test test/node/${t}_test.cpp)
     target_link_libraries(node_${t}_test cloth_sim_rostest_util)
@@ -86,6 +86,8 @@ if(CATKIN_ENABLE_TESTING)
                                CLOTH_SIM_NODE_EXE="$<TARGET_FILE:cloth_sim_node>")
     add_dependencies(node_${t}_test cloth_sim_node)
   endforeach()
+  # The same pinch test binary with the fingers' friction at 0.1: the cloth slips out.
+  add_rostest(test/node/pinch_slip.test DEPENDENCIES node_pinch_test)
   # The grasp demo as users launch it, headless; the check is a Python script (no build).
   add_rostest(test/node/grasp_demo.test DEPENDENCIES cloth_sim_node)
 endif()

@@ -88,8 +88,7 @@ bool ClothSimNode::onSetState(SetState::Request& req, SetState::Response& res) {
                                   " must be >= 0 (a kept snapshot) or -1 (the fields)");
     }
     // ROS time never goes back (tf2 buffers clear on a jump back): the stamps go on from here.
-    clock_.restart(t_before);
-    clock_.restart(-sim_.state().time);
+    clock_.jump(t_before, sim_.state().time);
     return done + " at t = " + std::to_string(sim_.state().time) + " s";
   });
   res.sim_time = sim_.state().time;

@@ -92,6 +92,15 @@ TEST(SimClock, StampsGoOnAcrossAReset) {
   EXPECT_EQ(clock.stamp(0.25), ros::Time(199, 750000000));
 }
 
+TEST(SimClock, AJumpInSimulatedTimeNeverTakesTheStampsBack) {
+  SimClock clock(ros::Time(1, 0));
+  clock.jump(5.0, 2.0);  // a snapshot of t = 2 s restored at t = 5 s: stamps go on from 6 s
+  EXPECT_EQ(clock.stamp(2.0), ros::Time(6, 0));
+  clock.jump(2.0, 100.0);  // set to t = 100 s: later than the stamp reached, so forward to it
+  EXPECT_EQ(clock.stamp(100.0), ros::Time(100, 0));
+  EXPECT_GE(clock.stamp(100.0), ros::Time(6, 0));
+}
+
 TEST(StateDigest, EqualForEqualStatesAndChangesWithOneBit) {
   State a = State::atRest(Points::Random(3, 20));
   State b = a;
