@@ -47,7 +47,7 @@ add_executable(pin_teleop tools/pin_teleop/pin_teleop_main.cpp)
 target_link_libraries(pin_teleop cloth_sim_teleop)
 
 # The grasp demo's scripted gripper (launch/grasp_demo.launch).
-catkin_install_python(PROGRAMS tools/gripper/scripted_gripper.py
+catkin_install_python(PROGRAMS tools/gripper/scripted_gripper.py tools/gripper/pinch_gripper.py
   DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
 install(TARGETS cloth_sim_ros cloth_sim_node pin_teleop
