@@ -70,6 +70,38 @@ TEST(Robot, ABoxPushedIntoTheSheetLeavesNoParticleInsideAtAnyFrame) {
   EXPECT_TRUE(call<RemoveCollider>(names::kRemoveCollider, remove).success);
 }
 
+TEST(Robot, BadCollidersAreRefusedAndAMeshLoadsFromAPackage) {
+  const std::size_t before = call<GetState>(names::kGetState, GetState::Request()).colliders.size();
+  AddCollider::Request req = boxOn("nowhere", 0.1);
+  AddCollider::Response res = call<AddCollider>(names::kAddCollider, req);
+  EXPECT_FALSE(res.success);
+  EXPECT_NE(res.message.find("frame_id 'nowhere' is unknown to tf2"), std::string::npos) << res.message;
+  req = boxOn("world", 0.1);
+  req.size.z = 0.0;
+  res = call<AddCollider>(names::kAddCollider, req);
+  EXPECT_FALSE(res.success);
+  EXPECT_NE(res.message.find("box collider size 0 must be in (0, 1e+06] m"), std::string::npos) << res.message;
+  req.shape = "cone";
+  EXPECT_FALSE(call<AddCollider>(names::kAddCollider, req).success);
+  req.shape = "mesh";
+  req.mesh_file = "package://no_such_package/x.stl";
+  res = call<AddCollider>(names::kAddCollider, req);
+  EXPECT_FALSE(res.success);
+  EXPECT_NE(res.message.find("no package 'no_such_package'"), std::string::npos) << res.message;
+  RemoveCollider::Request remove;
+  remove.id = 999;
+  EXPECT_FALSE(call<RemoveCollider>(names::kRemoveCollider, remove).success);
+  EXPECT_EQ(call<GetState>(names::kGetState, GetState::Request()).colliders.size(), before);
+  // A still mesh from a package file, placed where its frame is now, far from the cloth.
+  req.mesh_file = "package://cloth_sim/config/meshes/table.obj";
+  req.still = true;
+  req.origin.position.x = 5.0;
+  res = call<AddCollider>(names::kAddCollider, req);
+  ASSERT_TRUE(res.success) << res.message;
+  remove.id = res.id;
+  EXPECT_TRUE(call<RemoveCollider>(names::kRemoveCollider, remove).success);
+}
+
 std::vector<std::string> digestsOfNext(Collector<FrameState>& frames, std::uint32_t n) {
   frames.clear();
   step(n);
