@@ -123,6 +123,13 @@ TEST(Snapshot, GraspBodyAndPendingMovesContinueBitForBit) {
   });
 }
 
+TEST(Snapshot, ASnapshotRightAfterARestartContinuesBitForBit) {
+  // A pin added just before the snapshot: BDF2 restarts with an implicit Euler step (another
+  // h_i, another factor), so the warm start carried must not be used for it.
+  checkContinuation(with(shipped("drape"), "local_global", "bdf2"), 30, 10,
+                    [](Simulation& sim) { sim.addPinHere(0); });
+}
+
 TEST(Snapshot, NewtonContinuesBitForBit) {
   checkContinuation(with(shipped("trampoline"), "newton", "implicit_euler"), 10, 5, nullptr);
 }

@@ -59,8 +59,8 @@ struct SimulationSnapshot {
   GraspSet grasps;              ///< held particles, their frame poses and wrenches
   SubstepPipeline substep;      ///< the contact forces' warm start
   std::vector<Vec3> pin_loads;  ///< N, the last substep's loads (the wrenches)
-  /// The solver's warm start (Solver::carriedOver, particle order; empty: none).
-  Points solver_carry;
+  /// The solver's warm start (Solver::carriedOver).
+  SolverCarry solver_carry;
 };
 
 /// A mass-spring object with its pins and colliders, advanced one frame at a time.

@@ -163,6 +163,14 @@ struct SolverInput {
   ContactForces* contacts = nullptr;
 };
 
+/// What a solver's step carries over to the next besides the State: its warm start, x - y of the
+/// last step (m, 3 x N in particle order; empty: none), valid for the implicit step it was made
+/// with (s, the h_i of ImplicitStepProblem; a step of another h_i starts cold).
+struct SolverCarry {
+  Points correction;
+  double implicit_h = 0.0;
+};
+
 /// A time integrator for the mass-spring model. It moves @c state by one step of
 /// SolverInput::h (pins at their current targets, no collision: Simulation resolves those).
 class Solver {
@@ -183,11 +191,10 @@ class Solver {
   /// Sparse matrix factorizations done so far (numeric ones; Newton does one per iteration).
   /// Virtual for a wrapper (MidpointSafeguard), which counts its inner solver's.
   virtual int factorizationCount() const { return factorizations_; }
-  /// What a step carries over to the next besides the State: the warm start (x - y of the
-  /// last step, 3 x N in particle order), empty when none (Simulation::snapshot).
-  virtual Points carriedOver() const { return Points(); }
-  /// Gives a fresh solver the warm start @p carry that carriedOver() returned (empty: none).
-  virtual void carryOver(const Points& /*carry*/) {}
+  /// What a step carries over to the next besides the State (Simulation::snapshot).
+  virtual SolverCarry carriedOver() const { return SolverCarry(); }
+  /// Gives a fresh solver what carriedOver() returned.
+  virtual void carryOver(const SolverCarry& /*carry*/) {}
 
  protected:
   int factorizations_ = 0;

@@ -68,12 +68,13 @@ int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& setti
   });
   gravity_ = model.gravity;
   const int n = model.particleCount();
-  if (pending_correction_.cols() == n) {  // a restored warm start, now in this node order
+  const Points& carried = pending_correction_.correction;
+  if (carried.cols() == n && pending_correction_.implicit_h == h_) {  // restored, in node order
     correction_.assign(static_cast<std::size_t>(kNodeStride) * n, 0.0);
     for (int k = 0; k < n; ++k)
-      for (int c = 0; c < 3; ++c) correction_[kNodeStride * k + c] = pending_correction_(c, node_particle_[k]);
+      for (int c = 0; c < 3; ++c) correction_[kNodeStride * k + c] = carried(c, node_particle_[k]);
   }
-  pending_correction_.resize(3, 0);
+  pending_correction_ = SolverCarry();
   const Points& y = problem_.inertial;
 
   const Points constant = globalStepConstant(model, in.pins, dofs_, h_, y);
@@ -210,10 +211,11 @@ void LocalGlobalProblem::finishStep(const NodeBuffer& x, State& state) {
   state = problem_.finish(positions, state.time);
 }
 
-Points LocalGlobalProblem::warmStart() const {
-  Points out;
+SolverCarry LocalGlobalProblem::warmStart() const {
+  SolverCarry out;
   if (!correction_.empty() && correction_.size() == kNodeStride * node_particle_.size()) {
-    toParticles(correction_, out);
+    toParticles(correction_, out.correction);
+    out.implicit_h = h_;
   }
   return out;
 }

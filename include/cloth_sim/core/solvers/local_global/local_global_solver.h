@@ -27,8 +27,8 @@ class LocalGlobalFamily : public Solver {
   /// The springs as the local step sees them (valid after the first step).
   const SpringTable& springTable() const { return problem_.springTable(); }
   /// The problem's warm start (LocalGlobalProblem::warmStart).
-  Points carriedOver() const override { return problem_.warmStart(); }
-  void carryOver(const Points& carry) override { problem_.setWarmStart(carry); }
+  SolverCarry carriedOver() const override { return problem_.warmStart(); }
+  void carryOver(const SolverCarry& carry) override { problem_.setWarmStart(carry); }
 
  protected:
   LocalGlobalProblem problem_;
