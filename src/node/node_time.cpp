@@ -76,9 +76,10 @@ bool ClothSimNode::onStep(Step::Request& req, Step::Response& res) {
 void ClothSimNode::onStepGoal() {
   const auto goal = step_action_->acceptNewGoal();
   if (goal->frames < 1 || goal->frames > kMaxActionFrames) {
-    StepFramesResult result;
-    result.message = "frames " + std::to_string(goal->frames) + " must be in [1, " +
-                     std::to_string(kMaxActionFrames) + "]";
+    action_frames_done_ = 0;
+    const StepFramesResult result = stepFramesResult(
+        "frames " + std::to_string(goal->frames) + " must be in [1, " +
+        std::to_string(kMaxActionFrames) + "]");
     step_action_->setAborted(result, result.message);
     return;
   }
@@ -88,12 +89,8 @@ void ClothSimNode::onStepGoal() {
 }
 
 void ClothSimNode::onStepCancel() {
-  StepFramesResult result;
-  result.frames_done = action_frames_done_;
-  result.sim_time = sim_.state().time;
-  result.stamp = simStamp();
-  result.state_digest = stateDigest(sim_.state());
-  result.message = "cancelled after " + std::to_string(action_frames_done_) + " frames";
+  const StepFramesResult result =
+      stepFramesResult("cancelled after " + std::to_string(action_frames_done_) + " frames");
   action_frames_left_ = 0;
   step_action_timer_.stop();
   step_action_->setPreempted(result, result.message);
@@ -117,13 +114,19 @@ void ClothSimNode::stepActionTick(const ros::SteadyTimerEvent&) {
   step_action_->publishFeedback(feedback);
   if (action_frames_left_ > 0) return;
   step_action_timer_.stop();
+  const StepFramesResult result =
+      stepFramesResult("stepped " + std::to_string(action_frames_done_) + " frames");
+  step_action_->setSucceeded(result, result.message);
+}
+
+StepFramesResult ClothSimNode::stepFramesResult(const std::string& message) const {
   StepFramesResult result;
   result.frames_done = action_frames_done_;
   result.sim_time = sim_.state().time;
   result.stamp = simStamp();
   result.state_digest = stateDigest(sim_.state());
-  result.message = "stepped " + std::to_string(action_frames_done_) + " frames";
-  step_action_->setSucceeded(result, result.message);
+  result.message = message;
+  return result;
 }
 
 }  // namespace cloth_sim::node

@@ -133,6 +133,9 @@ class ClothSimNode {
   void onStepGoal();
   void onStepCancel();
   void stepActionTick(const ros::SteadyTimerEvent&);
+  /// The action's result now: the frames done so far, the simulated time, its stamp and the
+  /// state digest, with @p message.
+  StepFramesResult stepFramesResult(const std::string& message) const;
 
   // --- colliders (node_colliders.cpp) ---------------------------------------------------------
   bool onAddCollider(AddCollider::Request& req, AddCollider::Response& res);
