@@ -4,7 +4,6 @@
 // stepping, so nothing depends on wall-clock speed.
 #include <cmath>
 #include <cstdio>
-#include <mutex>
 
 #include <gtest/gtest.h>
 #include <geometry_msgs/WrenchStamped.h>
@@ -12,14 +11,13 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <std_srvs/Trigger.h>
-#include <tf2_msgs/TFMessage.h>
 
 #include <cloth_sim/AddGrasp.h>
 #include <cloth_sim/ReleaseGrasp.h>
 #include <cloth_sim/RemovePin.h>
 #include <cloth_sim/Step.h>
 
-#include "ros_test_util.h"
+#include "robot_util.h"
 
 namespace cloth_sim::test {
 namespace {
@@ -47,16 +45,6 @@ NodeProbe& probe() {
   return p;
 }
 
-void wallSleep(double s) { ros::WallDuration(s).sleep(); }
-
-Step::Response step(std::uint32_t frames) {
-  Step::Request req;
-  req.frames = frames;
-  const Step::Response res = call<Step>(names::kStep, req);
-  EXPECT_TRUE(res.success) << res.message;
-  return res;
-}
-
 /// The latest stamp published for "gripper": tf2 keeps every sample across a reset and ignores
 /// a second one at the same stamp, so the stamps of a run after a reset must be new ones.
 ros::Time& lastPublished() {
@@ -74,64 +62,15 @@ void reset() {
 }
 
 /// Publishes frame "gripper" in "world" at every substep stamp of [t0, t1] (simulated s after
-/// @p origin), at pose(t): tf2 then interpolates exactly at the node's substep times.
+/// @p origin), at position(t): tf2 then interpolates exactly at the node's substep times.
 void publishGripper(const ros::Time& origin, double t0, double t1,
                     const std::function<Vec3(double)>& position) {
-  static ros::Publisher pub = ros::NodeHandle().advertise<tf2_msgs::TFMessage>("/tf", 10);
-  ASSERT_TRUE(waitForSubscriber(pub));
-  tf2_msgs::TFMessage msg;
-  for (int k = static_cast<int>(std::floor(t0 / kSubstep)); k * kSubstep <= t1 + 1e-9; ++k) {
-    const double t = k * kSubstep;
-    geometry_msgs::TransformStamped tf;
-    tf.header.frame_id = "world";
-    tf.header.stamp = origin + ros::Duration(t);
-    tf.child_frame_id = "gripper";
-    const Vec3 p = position(t);
-    tf.transform.translation.x = p.x();
-    tf.transform.translation.y = p.y();
-    tf.transform.translation.z = p.z();
-    tf.transform.rotation.w = 1.0;
-    msg.transforms.push_back(tf);
-    lastPublished() = std::max(lastPublished(), tf.header.stamp);
-  }
-  pub.publish(msg);
-  wallSleep(0.5);  // into the node's tf2 buffer before it steps
+  const Trajectory pose = [&](double t) {
+    return Eigen::Isometry3d(Eigen::Translation3d(position(t)));
+  };
+  publishAhead(origin, t0, t1, kSubstep, {{"gripper", pose}});
+  lastPublished() = std::max(lastPublished(), origin + ros::Duration(t1));  // at or after the last
 }
-
-/// Keeps every message of one topic.
-template <class M>
-class Collector {
- public:
-  explicit Collector(const std::string& topic)
-      : sub_(ros::NodeHandle().subscribe<M>(
-            topic, 1000,
-            boost::function<void(const boost::shared_ptr<const M>&)>(
-                [this](const boost::shared_ptr<const M>& m) {
-                  std::lock_guard<std::mutex> lock(mutex_);
-                  all_.push_back(*m);
-                  if (all_.size() > 4000) all_.erase(all_.begin(), all_.begin() + 1000);
-                }))) {}
-  std::vector<M> all() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return all_;
-  }
-  /// The first message satisfying @p pred, within @p timeout wall s.
-  std::optional<M> waitFor(const std::function<bool(const M&)>& pred, double timeout = 10.0) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
-    while (ros::WallTime::now() < end) {
-      for (const M& m : all()) {
-        if (pred(m)) return m;
-      }
-      wallSleep(0.02);
-    }
-    return std::nullopt;
-  }
-
- private:
-  std::mutex mutex_;
-  std::vector<M> all_;
-  ros::Subscriber sub_;
-};
 
 std::vector<int> topRow() {
   std::vector<int> v;

@@ -1,6 +1,6 @@
-// Helpers of the robot rostests (robot_test.cpp, pinch_test.cpp): stepping a paused node that
-// publishes /clock, publishing tf trajectories ahead in simulated time, and keeping every message
-// of a topic.
+// Helpers of the rostests that drive a paused node publishing /clock (robot_test.cpp,
+// pinch_test.cpp, tf_buffer_test.cpp, grasp_test.cpp): stepping it, publishing tf trajectories
+// ahead in simulated time, and keeping every message of a topic.
 #pragma once
 
 #include <cmath>
@@ -88,6 +88,17 @@ class Collector {
   void clear() {
     std::lock_guard<std::mutex> lock(mutex_);
     all_.clear();
+  }
+  /// The first message kept that satisfies @p pred, within @p timeout wall s.
+  std::optional<M> waitFor(const std::function<bool(const M&)>& pred, double timeout = 10.0) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+    while (ros::WallTime::now() < end) {
+      for (const M& m : all()) {
+        if (pred(m)) return m;
+      }
+      wallSleep(0.02);
+    }
+    return std::nullopt;
   }
   /// Waits until @p count messages arrived (false after @p timeout wall s).
   bool waitForCount(std::size_t count, double timeout = 60.0) {
