@@ -189,6 +189,50 @@ TEST(Grasp, HangingAtRestTheWrenchIsTheClothsWeight) {
   EXPECT_NEAR(pins_z, f.z(), 1e-12);
 }
 
+TEST(Grasp, TheWrenchTorqueIsAboutTheOriginOfTheFrameItsHeaderNames) {
+  // The gripper frame 0.1 m to the left of the top row's middle, the grasp point (its origin +
+  // offset) on it: the hanging sheet pulls W down 0.1 m along the frame's x, a torque of
+  // (0.1, 0, 0) x (0, 0, -W) = (0, 0.1 W, 0) about the frame's origin (about the grasp point,
+  // what the wrench gave before, it is about 0).
+  reset();
+  const ros::Time origin = step(0).stamp;
+  const Vec3 frame_origin(-0.1, 0.0, kTop);
+  publishGripper(origin, 0.0, 9.0, [&](double) { return frame_origin; });
+  AddGrasp::Request req;
+  req.frame_id = "gripper";
+  req.vertices = topRow();
+  req.offset.x = 0.1;
+  const AddGrasp::Response g = call<AddGrasp>(names::kGrasp, req);
+  ASSERT_TRUE(g.success) << g.message;
+  step(300);  // at rest
+  Collector<geometry_msgs::WrenchStamped> w(names::graspWrench(g.id));
+  wallSleep(0.5);
+  const Step::Response r = step(1);
+  const auto got =
+      w.waitFor([&](const geometry_msgs::WrenchStamped& m) { return m.header.stamp == r.stamp; });
+  ASSERT_TRUE(got.has_value());
+  EXPECT_EQ(got->header.frame_id, "gripper");
+  // The same torque from the pins themselves: sum of (x_i - origin) x F_i (the frame is not
+  // turned, so its axes are the world's).
+  const ClothState s = stateAt(r.stamp);
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
+  for (const PinInfo& p : s.pins) {
+    if (p.grasp != g.id) continue;
+    force += toVec3(p.force);
+    torque += (toVec3(p.position) - frame_origin).cross(toVec3(p.force));
+  }
+  const Vec3 reported = toVec3(got->wrench.torque);
+  std::printf("[measured] grasp 0.1 m off its frame's origin: torque (%.5f, %.5f, %.5f) N m, "
+              "from the pins (%.5f, %.5f, %.5f), 0.1 W = %.5f\n", reported.x(), reported.y(),
+              reported.z(), torque.x(), torque.y(), torque.z(), 0.1 * weight());
+  EXPECT_LT((reported - torque).norm(), 1e-9 * weight());
+  // At rest |F - W| < 1e-3 W and the torque about the grasp point < 2e-4 W m (the test above).
+  EXPECT_NEAR(reported.y(), 0.1 * weight(), 3e-4 * weight());
+  EXPECT_LT((toVec3(got->wrench.force) - force).norm(), 1e-9 * weight());
+  ASSERT_EQ(s.grasps.size(), 1u);
+  EXPECT_LT((toVec3(s.grasps[0].wrench.torque) - reported).norm(), 1e-12);  // cloth/state: the same
+}
+
 TEST(Grasp, LiftedAtConstantAccelerationTheWrenchIsMassTimesGPlusA) {
   reset();
   const ros::Time origin = step(0).stamp;
