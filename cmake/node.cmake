@@ -88,6 +88,7 @@ if(CATKIN_ENABLE_TESTING)
   endforeach()
   # The same pinch test binary with the fingers' friction at 0.1: the cloth slips out.
   add_rostest(test/node/pinch_slip.test DEPENDENCIES node_pinch_test)
-  # The grasp demo as users launch it, headless; the check is a Python script (no build).
+  # The grasp and pinch demos as users launch them, headless; the checks are Python scripts.
   add_rostest(test/node/grasp_demo.test DEPENDENCIES cloth_sim_node)
+  add_rostest(test/node/pinch_demo.test DEPENDENCIES cloth_sim_node)
 endif()
