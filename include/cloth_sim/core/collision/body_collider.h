@@ -83,8 +83,11 @@ class BodySet {
   /// Puts body @p id's frame at @p frame_pose now (both ends of the next substep: a teleport).
   /// Throws for an unknown id or a non-finite pose.
   void setFramePose(int id, const Eigen::Isometry3d& frame_pose);
+  /// Body @p id, or nullptr.
   const BodyCollider* find(int id) const;
+  /// Every body, in the order they were added.
   const std::vector<BodyCollider>& bodies() const { return bodies_; }
+  /// True when there is no body.
   bool empty() const { return bodies_.empty(); }
   /// Before a substep ending at simulated time @p time (s): every body's start pose becomes
   /// where it ended the last substep; a body that follows a frame is put where @p source says

@@ -70,6 +70,7 @@ class Colliders {
 
   /// The rigid bodies (spheres, capsules, boxes, meshes; still or on a moving frame).
   const BodySet& bodies() const { return bodies_; }
+  /// The same, to add, remove, move or place bodies (Simulation's body edits go through it).
   BodySet& mutableBodies() { return bodies_; }
 
   /// Moves the spheres over one step: a kinematic one by velocity * h; a dynamic one by

@@ -167,8 +167,8 @@ struct SolverInput {
 /// last step (m, 3 x N in particle order; empty: none), valid for the implicit step it was made
 /// with (s, the h_i of ImplicitStepProblem; a step of another h_i starts cold).
 struct SolverCarry {
-  Points correction;
-  double implicit_h = 0.0;
+  Points correction;        ///< m, x - y of the last step, 3 x N (empty: no warm start)
+  double implicit_h = 0.0;  ///< s, the h_i of the step it was made with
 };
 
 /// A time integrator for the mass-spring model. It moves @c state by one step of
