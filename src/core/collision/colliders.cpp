@@ -218,6 +218,16 @@ void restartAlong(const CollisionStep& step, const Vec3& normal, Eigen::Index i,
   }
 }
 
+/// Particle @p i against the rigid bodies (collideWithBodies). Returns whether they moved it.
+bool collideWithBodyColliders(const CollisionStep& step, const BodySet& bodies, Eigen::Index i,
+                              Points& end) {
+  if (bodies.empty()) return false;
+  Vec3 moved = end.col(i);
+  if (!collideWithBodies(bodies.bodies(), step.start.col(i), moved, step.freeMotion(i))) return false;
+  end.col(i) = moved;
+  return true;
+}
+
 /// Each dynamic sphere takes the impulses of @p reactions (summed over the particles), and
 /// then pushes out fully the particles its own move brought back into it.
 void applySphereReactions(const CollisionStep& step, const std::vector<SphereReaction>& reactions,
@@ -324,6 +334,8 @@ int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& e
     // an obstacle standing there (a table leg); the mesh response keeps its start side.
     hit = collideWithGround(step, ground, still_motion, i, end, normal) || hit;
     hit = collideWithMeshes(step, colliders.meshes(), still_motion, i, end, normal) || hit;
+    // The bodies were not in the solve: their friction presses with the particle's own load.
+    hit = collideWithBodyColliders(step, colliders.bodies(), i, end) || hit;
     // A mesh standing on the ground may push a particle round its bottom edge below it.
     if (ground.enabled) end(2, i) = std::max(end(2, i), ground.height);
     if (hit) {

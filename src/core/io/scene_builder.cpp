@@ -182,6 +182,7 @@ Simulation makeSimulation(const SceneConfig& scene) {
   Colliders colliders;
   for (const SphereCollider& s : scene.spheres) colliders.addSphere(s);
   for (const MeshColliderSpec& m : scene.meshes) colliders.addMesh(m.obstacle);
+  for (const BodyCollider& b : scene.bodies) colliders.mutableBodies().add(b);
   colliders.setGround(scene.ground);
   SimulationOptions options = scene.options;
   const Points& rest = object.rest_positions;

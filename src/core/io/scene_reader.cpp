@@ -4,6 +4,7 @@
 #include <set>
 #include <sstream>
 
+#include "cloth_sim/core/io/scene_bodies.h"
 #include "cloth_sim/core/io/scene_fields.h"
 #include "cloth_sim/core/solvers/registry.h"
 
@@ -267,8 +268,9 @@ void readMeshColliders(const SceneFields& r, const YAML::Node& node, SceneConfig
 }
 
 void readColliders(const SceneFields& r, const YAML::Node& node, SceneConfig& scene) {
-  r.map(node, "colliders", {"spheres", "meshes", "ground"});
+  r.map(node, "colliders", {"spheres", "meshes", "ground", "bodies"});
   if (node["meshes"]) readMeshColliders(r, node["meshes"], scene);
+  if (node["bodies"]) readBodyColliders(r, node["bodies"], scene.bodies);
   if (const YAML::Node spheres = node["spheres"]) {
     if (!spheres.IsSequence()) r.fail("colliders.spheres", "must be a list");
     for (std::size_t k = 0; k < spheres.size(); ++k) {

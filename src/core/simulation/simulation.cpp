@@ -119,6 +119,7 @@ StepReport Simulation::step() {
     // A grasp's frame is asked where it is at the end of each substep, so a moving gripper
     // carries the cloth continuously, not in one jump a frame.
     const PinSet& pins = inputs_.pinsAt(k, n, state_.time + h, grasps_, pins_);
+    colliders_.mutableBodies().place(state_.time + h, body_pose_source_);  // bodies likewise
     substep_.run(world, pins, h, revision_, iteration_tolerance, tolerance > 0.0, report);
   }
   report.max_strain = maxStrain(model_.springs, state_.positions);

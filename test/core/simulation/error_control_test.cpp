@@ -211,6 +211,14 @@ TEST(ErrorControl, ARerunIsTheSameToTheBit) {
   sim.reset();
   for (int f = 0; f < 30; ++f) sim.step();
   EXPECT_EQ(sim.state().positions, first);
+  // And from a snapshot: the substeps and the controller go on as they would have.
+  const SimulationSnapshot saved = sim.snapshot();
+  std::vector<int> substeps;
+  for (int f = 0; f < 40; ++f) substeps.push_back(sim.step().substeps);
+  const Points after = sim.state().positions;
+  sim.restore(saved);
+  for (int f = 0; f < 40; ++f) EXPECT_EQ(sim.step().substeps, substeps[f]) << "frame " << f;
+  EXPECT_EQ(sim.state().positions, after);
 }
 
 }  // namespace

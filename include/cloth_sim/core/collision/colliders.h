@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "cloth_sim/core/collision/body_collider.h"
 #include "cloth_sim/core/collision/mesh_obstacle.h"
 #include "cloth_sim/core/linalg/types.h"
 
@@ -67,16 +68,24 @@ class Colliders {
   void addMesh(std::shared_ptr<const MeshObstacle> mesh);
   const std::vector<std::shared_ptr<const MeshObstacle>>& meshes() const { return meshes_; }
 
+  /// The rigid bodies (spheres, capsules, boxes, meshes; still or on a moving frame).
+  const BodySet& bodies() const { return bodies_; }
+  /// The same, to add, remove, move or place bodies (Simulation's body edits go through it).
+  BodySet& mutableBodies() { return bodies_; }
+
   /// Moves the spheres over one step: a kinematic one by velocity * h; a dynamic one by
   /// symplectic Euler under @p gravity and the model's drag (v <- @p decay v + g h, spin
   /// <- decay spin, then centre += v h), decay = exp(-damping h) as for the cloth.
   void advance(double h, const Vec3& gravity = Vec3::Zero(), double decay = 1.0);
-  bool empty() const { return spheres_.empty() && meshes_.empty() && !ground_.enabled; }
+  bool empty() const {
+    return spheres_.empty() && meshes_.empty() && bodies_.empty() && !ground_.enabled;
+  }
 
  private:
   std::vector<SphereCollider> spheres_;
   std::vector<std::shared_ptr<const MeshObstacle>> meshes_;
   GroundPlane ground_;
+  BodySet bodies_;
   int next_id_ = 0;
 };
 

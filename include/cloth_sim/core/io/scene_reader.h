@@ -93,6 +93,9 @@ struct SceneConfig {
   std::vector<PinSelector> pins;  ///< in scene order
   std::vector<SphereCollider> spheres;
   std::vector<MeshColliderSpec> meshes;
+  /// colliders.bodies[]: still ones placed, ones on a frame named (BodyCollider::name) with
+  /// their origin in it (scene_bodies.h).
+  std::vector<BodyCollider> bodies;
   GroundPlane ground;       ///< disabled unless the scene has colliders.ground
 };
 

@@ -197,6 +197,14 @@ struct SolverInput {
   ContactForces* contacts = nullptr;
 };
 
+/// What a solver's step carries over to the next besides the State: its warm start, x - y of the
+/// last step (m, 3 x N in particle order; empty: none), valid for the implicit step it was made
+/// with (s, the h_i of ImplicitStepProblem; a step of another h_i starts cold).
+struct SolverCarry {
+  Points correction;        ///< m, x - y of the last step, 3 x N (empty: no warm start)
+  double implicit_h = 0.0;  ///< s, the h_i of the step it was made with
+};
+
 /// A time integrator for the mass-spring model. It moves @c state by one step of
 /// SolverInput::h (pins at their current targets, no collision: Simulation resolves those).
 class Solver {
@@ -217,6 +225,10 @@ class Solver {
   /// Sparse matrix factorizations done so far (numeric ones; Newton does one per iteration).
   /// Virtual for a wrapper (MidpointSafeguard), which counts its inner solver's.
   virtual int factorizationCount() const { return factorizations_; }
+  /// What a step carries over to the next besides the State (Simulation::snapshot).
+  virtual SolverCarry carriedOver() const { return SolverCarry(); }
+  /// Gives a fresh solver what carriedOver() returned.
+  virtual void carryOver(const SolverCarry& /*carry*/) {}
 
  protected:
   int factorizations_ = 0;

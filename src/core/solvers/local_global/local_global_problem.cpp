@@ -95,6 +95,13 @@ int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& setti
   const int factorizations = useFactor(in, settings.linear_solver, h_);
   gravity_ = model.gravity;
   const int n = model.particleCount();
+  const Points& carried = pending_correction_.correction;
+  if (carried.cols() == n && pending_correction_.implicit_h == h_) {  // restored, in node order
+    correction_.assign(static_cast<std::size_t>(kNodeStride) * n, 0.0);
+    for (int k = 0; k < n; ++k)
+      for (int c = 0; c < 3; ++c) correction_[kNodeStride * k + c] = carried(c, node_particle_[k]);
+  }
+  pending_correction_ = SolverCarry();
   const Points& y = problem_.inertial;
 
   const Points constant = globalStepConstant(model, in.pins, f_->dofs, h_, y);
@@ -235,6 +242,15 @@ void LocalGlobalProblem::finishStep(const NodeBuffer& x, State& state) {
   Points positions;
   toParticles(x, positions);
   state = problem_.finish(positions, state.time);
+}
+
+SolverCarry LocalGlobalProblem::warmStart() const {
+  SolverCarry out;
+  if (!correction_.empty() && correction_.size() == kNodeStride * node_particle_.size()) {
+    toParticles(correction_, out.correction);
+    out.implicit_h = h_;
+  }
+  return out;
 }
 
 void LocalGlobalProblem::toParticles(const NodeBuffer& x, Points& out) const {

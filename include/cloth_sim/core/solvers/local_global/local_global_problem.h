@@ -82,6 +82,12 @@ class LocalGlobalProblem {
   void finishStep(const NodeBuffer& x, State& state);
   /// @p out (3 x N, particle order) = the node buffer @p x.
   void toParticles(const NodeBuffer& x, Points& out) const;
+  /// The warm start x_n - y of the last step in particle order (3 x N; empty when none) and
+  /// the implicit step it is for.
+  SolverCarry warmStart() const;
+  /// Sets the warm start (as warmStart() gave it) that the next begin() uses, after its
+  /// factorization, if its step has the same h_i (a snapshot restored into a fresh solver).
+  void setWarmStart(const SolverCarry& carry) { pending_correction_ = carry; }
 
   /// Whether this step solves contact forces (SolverInput::contacts was set).
   bool solvesContacts() const { return contacts_ != nullptr; }
@@ -147,6 +153,7 @@ class LocalGlobalProblem {
   NodeBuffer inertial_;             ///< y
   NodeBuffer rhs_constant_;         ///< M y + h^2 (m g + k_pin t + k x_boundary)
   NodeBuffer correction_;           ///< x_{n} - y of the previous step (warm start)
+  SolverCarry pending_correction_;  ///< setWarmStart's, for the next begin()
   double constant_energy_ = 0.0;    ///< springs between pinned nodes, J
   ContactForces* contacts_ = nullptr;  ///< this step's contact forces, or nullptr
   NodeBuffer rhs_work_;                ///< b(x) of objectiveAndGradient
