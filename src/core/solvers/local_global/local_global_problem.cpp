@@ -99,7 +99,7 @@ int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& setti
   if (carried.cols() == n && pending_correction_.implicit_h == h_) {  // restored, in node order
     correction_.assign(static_cast<std::size_t>(kNodeStride) * n, 0.0);
     for (int k = 0; k < n; ++k)
-      for (int c = 0; c < 3; ++c) correction_[kNodeStride * k + c] = carried(c, node_particle_[k]);
+      for (int c = 0; c < 3; ++c) correction_[kNodeStride * k + c] = carried(c, f_->node_particle[k]);
   }
   pending_correction_ = SolverCarry();
   const Points& y = problem_.inertial;
@@ -246,7 +246,7 @@ void LocalGlobalProblem::finishStep(const NodeBuffer& x, State& state) {
 
 SolverCarry LocalGlobalProblem::warmStart() const {
   SolverCarry out;
-  if (!correction_.empty() && correction_.size() == kNodeStride * node_particle_.size()) {
+  if (!correction_.empty() && f_ != nullptr && correction_.size() == kNodeStride * f_->node_particle.size()) {
     toParticles(correction_, out.correction);
     out.implicit_h = h_;
   }
