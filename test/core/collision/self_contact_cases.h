@@ -47,6 +47,16 @@ inline std::string header(double structural) {
   return y.str();
 }
 
+/// @p c with no solver block: the scene format's default then, error control (the substeps of
+/// each frame chosen by the local error estimate, BDF2; docs/method.md, "Error control").
+inline Case underErrorControl(Case c) {
+  const std::string block = "solver: {name: local_global, iterations: 2, substeps: 8}\n";
+  const std::size_t at = c.yaml.find(block);
+  if (at != std::string::npos) c.yaml.erase(at, block.size());
+  c.name += " (error control)";
+  return c;
+}
+
 /// The strip: 0.2 x 1.6 m, 10 x 64 particles (spacing 22 and 25 mm), 300 N/m, dropped
 /// upright (leaning 7 degrees) onto the ground, 2 s.
 inline Case strip(double thickness) {

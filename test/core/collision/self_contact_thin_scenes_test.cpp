@@ -1,10 +1,11 @@
 // Self-contact at a cloth's real thickness (mode triangles; docs/testing.md, "Self-contact"):
 // the issue's strip (10 and 1 mm) and bag (10 mm), a randomized set of strips, sheets, bags and
 // folds at 1 to 10 mm (fixed, printed seeds; coarse here, up to 128 x 128 in the benchmark),
-// and a folded cloth in free fall that must not gain momentum or energy. Every frame must leave
-// no intersecting pair of triangles (StepReport::intersections), and at the end no vertex or
-// edge may be closer than half the thickness to a triangle or edge it was farther than the
-// thickness from on the cloth at rest.
+// some of them under error control (substeps chosen per frame), and a folded cloth in free fall
+// that must not gain momentum or energy (at 8 substeps and under error control). Every frame
+// must leave no intersecting pair of triangles (StepReport::intersections), and at the end no
+// vertex or edge may be closer than half the thickness to a triangle or edge it was farther
+// than the thickness from on the cloth at rest.
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -20,6 +21,7 @@ namespace {
 
 struct Watch {
   int frames = 0, max_intersections = 0, failed = 0, first_bad = -1;
+  int min_substeps = 0, max_substeps = 0;
   double max_strain = 0.0, end_strain = 0.0, min_distance = 0.0, ms = 0.0;
 };
 
@@ -42,6 +44,8 @@ Watch run(const cases::Case& c) {
     w.max_intersections = std::max(w.max_intersections, r.intersections);
     w.max_strain = std::max(w.max_strain, r.max_strain);
     w.end_strain = r.max_strain;
+    w.min_substeps = k == 1 ? r.substeps : std::min(w.min_substeps, r.substeps);
+    w.max_substeps = std::max(w.max_substeps, r.substeps);
   }
   TriangleSelfContact probe(sim.model().triangles, sim.initialPositions(), t, 0.0);
   w.min_distance = probe.minPairDistance(sim.state().positions, t);
@@ -52,10 +56,11 @@ void expectClean(const Watch& w, const cases::Case& c) {
   std::printf(
       "%s%s (t = %.1f mm, %d particles on the long side): %d frames, max intersecting pairs %d "
       "(first at frame %d), failed frames %d, closest pair at the end %.2f t, max strain %.3f "
-      "(end %.3f), %.1f ms per frame\n",
+      "(end %.3f), %d to %d substeps, %.1f ms per frame\n",
       c.name.c_str(), c.seed ? (" seed " + std::to_string(c.seed)).c_str() : "",
       1e3 * c.thickness, c.resolution, w.frames, w.max_intersections, w.first_bad, w.failed,
-      w.min_distance / c.thickness, w.max_strain, w.end_strain, w.ms / w.frames);
+      w.min_distance / c.thickness, w.max_strain, w.end_strain, w.min_substeps, w.max_substeps,
+      w.ms / w.frames);
   EXPECT_EQ(w.max_intersections, 0) << c.name << " " << c.seed;
   EXPECT_EQ(w.failed, 0) << c.name << " " << c.seed;
   EXPECT_GE(w.min_distance, 0.5 * c.thickness) << c.name << " " << c.seed;
@@ -82,15 +87,33 @@ TEST(ThinSelfContact, RandomStripsSheetsBagsAndFolds) {
   }
 }
 
-TEST(ThinSelfContact, AFoldInFreeFallGainsNeitherMomentumNorEnergy) {
-  // No gravity, ground or damping: a 20 x 20 sheet's corner carried over it and let go while
-  // still moving, so that it lands on the other half by its own momentum. From the release on,
-  // nothing outside acts: the momentum must stay, and the energy (kinetic + springs) may only
-  // fall (implicit Euler and inelastic contacts lose some; self-contact must add none).
-  const std::string yaml = R"(
-time_step: 1/60
-gravity: [0, 0, 0]
-solver: {name: local_global, iterations: 2, substeps: 8}
+TEST(ThinSelfContact, UnderErrorControlTheSubstepsChangeAndNothingCrosses) {
+  // The same cases with no solver block: error control picks each frame's substeps (BDF2), so
+  // self-contact runs on steps of changing size and the multistep integrator's history.
+  // The issue's strip, and a strip, a bag and two folds of the random set: most frames take
+  // 128 substeps here, as without self-collision (the issue's bag and the sheets would take
+  // minutes).
+  const cases::Case strip = cases::underErrorControl(cases::strip(0.01));
+  const Watch w = run(strip);
+  expectClean(w, strip);
+  int changed = w.max_substeps > w.min_substeps;
+  for (const unsigned seed : {20260500u, 20260502u, 20260503u, 20260507u}) {
+    const cases::Case c = cases::underErrorControl(cases::random(seed, 16, 32, 1.5));
+    SCOPED_TRACE("seed " + std::to_string(c.seed));
+    const Watch r = run(c);
+    expectClean(r, c);
+    changed += r.max_substeps > r.min_substeps;
+  }
+  EXPECT_GT(changed, 0);  // the substeps did change within some case
+}
+
+/// No gravity, ground or damping: a 20 x 20 sheet's corner carried over it and let go while
+/// still moving, so that it lands on the other half by its own momentum. From the release on,
+/// nothing outside acts: the momentum must stay, and the energy (kinetic + springs) may only
+/// fall (implicit Euler, BDF2 and inelastic contacts lose some; self-contact must add none).
+/// @p solver is the scene's solver line (empty: none, so error control).
+void freeFold(const std::string& solver) {
+  const std::string yaml = "time_step: 1/60\ngravity: [0, 0, 0]\n" + solver + R"(
 cloth:
   grid: {rows: 20, cols: 20, size: [0.6, 0.6]}
 material: {areal_density: 0.2, damping: 0, springs: {structural: 400, shear: 40, bending: 4}}
@@ -106,13 +129,15 @@ self_collision: {thickness: 0.003, friction: 0.3}
   };
   Vec3 p0 = Vec3::Zero();
   double e0 = 0.0, e_max = 0.0, drift = 0.0;
-  int max_intersections = 0;
+  int max_intersections = 0, min_substeps = 1 << 30, max_substeps = 0;
   for (int k = 1; k <= 150; ++k) {
     const double s = std::min(1.0, k / 30.0);
     if (k <= 24) sim.movePin(pin, from + s * (to - from) + Vec3(0, 0, 0.15 * std::sin(M_PI * s)));
     if (k == 25) sim.removePin(pin);  // let go at 80 % of the way, still moving
     const StepReport r = sim.step();
     max_intersections = std::max(max_intersections, r.intersections);
+    min_substeps = std::min(min_substeps, r.substeps);
+    max_substeps = std::max(max_substeps, r.substeps);
     if (k == 25) {
       p0 = momentum();
       e0 = sim.totalEnergy();
@@ -123,12 +148,22 @@ self_collision: {thickness: 0.003, friction: 0.3}
     }
   }
   const double scale = sim.model().mass.sum() * sim.state().velocities.colwise().norm().maxCoeff();
-  std::printf("free fold: momentum at release %.4g kg m/s, largest drift %.3g kg m/s; energy at "
-              "release %.5f J, largest after %.5f J, at the end %.5f J; max intersecting pairs "
-              "%d\n", p0.norm(), drift, e0, e_max, sim.totalEnergy(), max_intersections);
+  std::printf("free fold (%s): %d to %d substeps; momentum at release %.4g kg m/s, largest drift "
+              "%.3g kg m/s; energy at release %.5f J, largest after %.5f J, at the end %.5f J; "
+              "max intersecting pairs %d\n",
+              solver.empty() ? "error control" : "8 substeps", min_substeps, max_substeps,
+              p0.norm(), drift, e0, e_max, sim.totalEnergy(), max_intersections);
   EXPECT_EQ(max_intersections, 0);
   EXPECT_LT(drift, 1e-6 + 1e-3 * std::max(scale, p0.norm()));
   EXPECT_LE(e_max, e0 * (1.0 + 1e-3));
+}
+
+TEST(ThinSelfContact, AFoldInFreeFallGainsNeitherMomentumNorEnergy) {
+  freeFold("solver: {name: local_global, iterations: 2, substeps: 8}\n");
+}
+
+TEST(ThinSelfContact, AFoldInFreeFallGainsNeitherMomentumNorEnergyUnderErrorControl) {
+  freeFold("");
 }
 
 }  // namespace
