@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Cost of self-collision against the particle count (docs/benchmark.md, "Self-collision"): the
-# fold scene at N x N particles (--resolution, automatic thickness: 2 mm in mode triangles, the
-# mean rest edge in mode particles), its corner carried over the cloth in 1.5 s and let go
-# (--fold), 3 s, with self-collision off, in mode triangles and in mode particles, one thread.
+# fold scene at N x N particles (--resolution: the scene's 3 mm in mode triangles, the automatic
+# thickness, the mean rest edge, in mode particles), its corner carried over the cloth in 1.5 s
+# and let go (--fold), 3 s, with self-collision off, in mode triangles and in mode particles,
+# one thread.
 # Writes bench/results/self_collision.csv (one row per run) and self_collision.md (the table).
 # Usage: bench/self_collision.sh [N ...]   (default 32 64 128: 1k to 16k particles)
 set -euo pipefail

@@ -132,7 +132,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"on", "off"}));
   app.add_option("--resolution", o.resolution,
                  "grid cloth: rows = cols = this, pins moved to the same place on the sheet; "
-                 "self_collision.thickness becomes automatic")
+                 "self_collision.thickness becomes automatic in mode particles")
       ->check(allowedBy(settings::kGridResolution));
   app.add_option("--fold", o.fold,
                  "carry the scene's first pin over the cloth to the vertex farthest from it in "

@@ -30,7 +30,11 @@ void resize(SceneConfig& scene, int n) {
       pin.col = scale(pin.col, old_cols);
     }
   }
-  scene.options.self_contact.thickness = 0.0;  // automatic: the mean rest edge length
+  // Mode particles' thickness is about the spacing: automatic at the new one. Mode triangles'
+  // is the cloth's own, whatever its mesh.
+  if (scene.options.self_contact.mode == SelfContactMode::kParticles) {
+    scene.options.self_contact.thickness = 0.0;
+  }
 }
 
 }  // namespace

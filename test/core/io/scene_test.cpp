@@ -393,8 +393,13 @@ TEST(SceneOverrides, AResolutionKeepsPinsWhereTheyAreOnTheSheet) {
   EXPECT_EQ(resized.pins[0].col, 6);
   EXPECT_EQ(resized.pins[1].vertex, 6);  // row 0, last column
   EXPECT_EQ(resized.pins[2].edge, "top");
-  EXPECT_EQ(resized.options.self_contact.thickness, 0.0);  // automatic at the new spacing
+  EXPECT_EQ(resized.options.self_contact.thickness, 0.2);  // mode triangles: the cloth's own
   EXPECT_NO_THROW(makeSimulation(resized));
+  SceneConfig particles = scene;
+  particles.options.self_contact.mode = SelfContactMode::kParticles;
+  const SceneConfig resized_particles = applyOverrides(particles, overrides);
+  EXPECT_EQ(resized_particles.options.self_contact.thickness, 0.0);  // automatic: new spacing
+  EXPECT_NO_THROW(makeSimulation(resized_particles));
 
   SceneConfig mesh = scene;
   mesh.cloth_kind = SceneConfig::ClothKind::kMesh;

@@ -32,8 +32,9 @@ struct SceneOverrides {
   std::optional<bool> self_collision;
   /// A grid cloth of this many particles a side (rows = cols): a pin on a vertex or a row and
   /// column moves to the same place on the sheet (corners stay corners; edge and region
-  /// selectors hold at any resolution), and self_collision.thickness becomes automatic (the
-  /// scene's was for its own spacing). Refused for a mesh cloth.
+  /// selectors hold at any resolution); in self_collision.mode particles the thickness becomes
+  /// automatic (the scene's was for its own spacing), in mode triangles it stays (the cloth's
+  /// own). Refused for a mesh cloth.
   std::optional<int> resolution;
 };
 
