@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <cstdint>
 
 namespace cloth_sim {
 namespace {
@@ -64,7 +65,6 @@ PairSearch::PairSearch(const SurfaceTopology& topology, const Points& rest) {
   nodes_.reserve(2 * n / kLeafSize + 2);
   mark_.assign(rest.cols(), 0);
   build(topology, 0, n, centroids);
-  mark_.clear();
   slot_of_.resize(n);
   for (int k = 0; k < n; ++k) slot_of_[order_[k]] = k;
   owner_slot_.assign(rest.cols(), -1);
@@ -235,6 +235,7 @@ void PairSearch::cross(int a, int b, unsigned tests) {
   if ((tests & kVerticesOfA) && !vertex_nodes_[a].overlaps(box_[b])) tests &= ~kVerticesOfA;
   if ((tests & kVerticesOfB) && !vertex_nodes_[b].overlaps(box_[a])) tests &= ~kVerticesOfB;
   if (tests == 0) return;
+  if (cull_flat_ && flatTogether(a, b)) return;
   const Node &na = nodes_[a], &nb = nodes_[b];
   if (na.count > 0 && nb.count > 0) {
     for (int i = na.first; i < na.first + na.count; ++i) {
@@ -250,6 +251,20 @@ void PairSearch::cross(int a, int b, unsigned tests) {
     cross(a, nb.left, tests);
     cross(a, nb.right, tests);
   }
+}
+
+bool PairSearch::flatTogether(int a, int b) {
+  if (!flat_[a] || !flat_[b] || !flat(normals_[a].merged(normals_[b]))) return false;
+  // One piece when each is and they share a vertex: asked once per pair of nodes (the mesh does
+  // not change), and only of pairs whose normals would let them be skipped.
+  const std::uint64_t key = static_cast<std::uint64_t>(std::min(a, b)) * nodes_.size() +
+                            static_cast<std::uint64_t>(std::max(a, b));
+  const auto known = adjacent_.find(key);
+  if (known != adjacent_.end()) return known->second;
+  const Node &na = nodes_[a], &nb = nodes_[b];
+  const bool adjacent = sharesVertex(*topology_, na.first, na.last, nb.first, nb.last);
+  adjacent_.emplace(key, adjacent);
+  return adjacent;
 }
 
 void PairSearch::leafPair(int i, int j, unsigned tests) {

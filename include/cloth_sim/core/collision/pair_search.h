@@ -5,6 +5,8 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -35,12 +37,13 @@ struct PairCandidate {
 /// normals stay within 60 degrees of one direction is flat: it cannot touch itself (Volino and
 /// Magnenat-Thalmann 1994, "Efficient self-collision detection on smoothly discretized surface
 /// animations using geometrical shape regularity"; Provot 1997 for the motion), so its pairs are
-/// skipped. The tree is walked against itself, two nodes only where their boxes overlap: their
-/// triangles' boxes for the edges the triangles own (SurfaceTopology: each edge pair once), the
-/// box of the vertices one node's triangles own (each path grown by the rest of the vertex
-/// reach) against the other's triangles for vertex-triangle pairs, pairs sharing a vertex left
-/// out. A vertex and a triangle that come within the reach, or two edges within the edge reach,
-/// are listed.
+/// skipped; so are two flat nodes that share a vertex and whose normals together stay within
+/// 60 degrees of one direction (flatTogether: one flat piece). The tree is walked against
+/// itself, two nodes only where their boxes overlap: their triangles' boxes for the edges the
+/// triangles own (SurfaceTopology: each edge pair once), the box of the vertices one node's
+/// triangles own (each path grown by the rest of the vertex reach) against the other's
+/// triangles for vertex-triangle pairs, pairs sharing a vertex left out. A vertex and a
+/// triangle that come within the reach, or two edges within the edge reach, are listed.
 ///
 /// Within a flat patch, pairs are neither contacts nor impacts: they stay apart by the cloth's
 /// own extent, at least cos 60 deg times their distance along the cloth (the springs' business,
@@ -98,6 +101,10 @@ class PairSearch {
   static constexpr unsigned kEdges = 1, kVerticesOfA = 2, kVerticesOfB = 4, kAll = 7;
   /// The pairs of @p tests between nodes @p a and @p b.
   void cross(int a, int b, unsigned tests);
+  /// Whether nodes @p a and @p b are flat (flat_) and together one flat piece: their normals
+  /// within the flat cone of one direction, and sharing a vertex. Such a pair is skipped as a
+  /// flat node is.
+  bool flatTogether(int a, int b);
   /// The pairs of @p tests between the triangles in slots @p i and @p j: the edges each owns,
   /// the vertices of one against the other.
   void leafPair(int i, int j, unsigned tests);
@@ -114,6 +121,9 @@ class PairSearch {
   std::vector<float> size_;               ///< each node box's largest side (m)
   std::vector<Eigen::AlignedBox3d> normals_;
   std::vector<char> flat_, mark_;
+  /// Whether two nodes share a vertex (key: the lower index times the node count plus the
+  /// higher), filled as flatTogether asks.
+  std::unordered_map<std::uint64_t, bool> adjacent_;
   /// Each vertex's path grown by half the edge reach, and by the rest of the reach; each edge's
   /// and each triangle's path grown by half the edge reach.
   std::vector<Eigen::AlignedBox3d> path_box_, vertex_box_, edge_box_, triangle_box_;
