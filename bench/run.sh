@@ -7,8 +7,9 @@
 #   stability  every solver over stiffness x time step x hard cases
 #   scaling    cost against sphere count, and cloth size over mesh obstacles
 #   self_collision  cost of self-collision against the particle count (bench/self_collision.sh)
+#   self_collision_set  (only when asked) the randomized thin self-contact set at 16 to 128
 # and turns the CSV files into plots and tables (bench/report.py). Results: bench/results/.
-# Usage: bench/run.sh [accuracy|drift|floor|speed|stability|scaling|self_collision|report|all] [extra cloth_sim_bench options]
+# Usage: bench/run.sh [accuracy|drift|floor|speed|stability|scaling|self_collision|self_collision_set|report|all] [extra cloth_sim_bench options]
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../scripts/env.sh"
 what="${1:-all}"
@@ -20,7 +21,7 @@ echo "[bench] $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; load: $(c
 # use both cores inside Newton's factorizations).
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 case "$what" in
-  accuracy|drift|floor|speed|stability|scaling) "$BENCH" "$what" "$@" ;;
+  accuracy|drift|floor|speed|stability|scaling|self_collision_set) "$BENCH" "$what" "$@" ;;
   self_collision) bash "$REPO_ROOT/bench/self_collision.sh" "$@" ;;
   report) ;;
   all)
@@ -31,7 +32,7 @@ case "$what" in
     "$BENCH" scaling
     bash "$REPO_ROOT/bench/self_collision.sh"
     ;;
-  *) echo "usage: $0 [accuracy|drift|floor|speed|stability|scaling|self_collision|report|all] [options]" >&2; exit 1 ;;
+  *) echo "usage: $0 [accuracy|drift|floor|speed|stability|scaling|self_collision|self_collision_set|report|all] [options]" >&2; exit 1 ;;
 esac
 echo "[bench] load after: $(cut -d' ' -f1-3 /proc/loadavg)"
 /usr/bin/python3 "$REPO_ROOT/bench/report.py" "$REPO_ROOT/bench/results"
