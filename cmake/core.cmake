@@ -10,6 +10,7 @@ add_library(cloth_sim_core
   src/core/linalg/block_pattern.cpp
   src/core/linalg/cholmod_factor.cpp
   src/core/linalg/supernodal_solves.cpp
+  src/core/linalg/parallel.cpp
   src/core/model/model.cpp
   src/core/model/pins.cpp
   src/core/model/free_particles.cpp
@@ -66,6 +67,9 @@ find_package(tinyobjloader REQUIRED)
 target_include_directories(cloth_sim_core PRIVATE ${CHOLMOD_INCLUDE_DIR})
 target_link_libraries(cloth_sim_core PUBLIC yaml-cpp
                       PRIVATE tinyobjloader::tinyobjloader_double ${CHOLMOD_LIBRARY})
+# The kernels' threads (linalg/parallel.h): a small team of std::threads.
+find_package(Threads REQUIRED)
+target_link_libraries(cloth_sim_core PRIVATE Threads::Threads)
 set_target_properties(cloth_sim_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
 # ---------------------------------------------------------------------------------------------
@@ -79,7 +83,7 @@ if(CATKIN_ENABLE_TESTING)
                              CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 
   set(CORE_TESTS
-    linalg/cholmod_factor_test linalg/supernodal_solves_test
+    linalg/cholmod_factor_test linalg/supernodal_solves_test linalg/parallel_test
     model/model_test model/pins_test model/spring_kernels_test model/strain_field_test
     model/grid_builder_test model/triangle_mesh_test model/mesh_builder_test
     collision/colliders_test collision/mesh_obstacle_test collision/sphere_impacts_test

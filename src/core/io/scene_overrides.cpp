@@ -44,6 +44,7 @@ SceneConfig applyOverrides(SceneConfig scene, const SceneOverrides& overrides) {
   if (overrides.linear_solver) settings.linear_solver = *overrides.linear_solver;
   if (overrides.warm_start) settings.warm_start = *overrides.warm_start;
   if (overrides.integrator) settings.integrator = *overrides.integrator;
+  if (overrides.threads) settings.threads = *overrides.threads;
   for (const auto& [param, value] : overrides.params) settings.params.set(*param, value);
   if (overrides.time_step) scene.time_step = *overrides.time_step;
   if (overrides.self_collision) scene.options.self_contact.enabled = *overrides.self_collision;

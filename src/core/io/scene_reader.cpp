@@ -17,11 +17,12 @@ PinSelector PinSelector::atVertex(int vertex) {
 
 namespace {
 
-/// solver: {name, iterations, substeps, tolerance, integrator} and, for every solver of the
+/// solver: {name, iterations, substeps, tolerance, integrator, threads} and, for every solver of the
 /// registry that has settings of its own, its block solver.<name>: {<field>: value, ...}.
 void readSolver(const SceneFields& r, const YAML::Node& node, SimulationOptions& options) {
   const std::string path = "solver";
-  std::set<std::string> keys = {"name", "iterations", "substeps", "tolerance", "integrator"};
+  std::set<std::string> keys = {"name",      "iterations", "substeps",
+                                "tolerance", "integrator", "threads"};
   for (const SolverEntry& entry : solverRegistry()) {
     if (!entry.params.empty()) keys.insert(entry.name);
   }
@@ -52,6 +53,9 @@ void readSolver(const SceneFields& r, const YAML::Node& node, SimulationOptions&
   }
   if (node["tolerance"]) {
     s.tolerance = r.number(node["tolerance"], settings::kTolerance.name, settings::kTolerance);
+  }
+  if (node["threads"]) {
+    s.threads = r.integer(node["threads"], settings::kThreads.name, settings::kThreads);
   }
   for (const SolverEntry& entry : solverRegistry()) {
     const YAML::Node block = node[entry.name];

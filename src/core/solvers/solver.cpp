@@ -122,6 +122,7 @@ void Solver::requireSettings(const SolverSettings& settings) const {
 void SolverSettings::validate() const {
   settings::kIterations.require(max_iterations);
   settings::kSubsteps.require(substeps);
+  settings::kThreads.require(threads);
   settings::kTolerance.require(tolerance);
   params.validate();
 }

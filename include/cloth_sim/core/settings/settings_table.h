@@ -65,6 +65,7 @@ inline constexpr NameSetting kIntegrator{"solver.integrator", "integrator",
 //                                  name                         param                   range                              int    unit      note                 doc                                                   slider
 inline constexpr Setting kIterations{"solver.iterations",       "iterations",           Range::closed(1, 100000),           true,  "",       "",                  "Solver iterations per step (a cap for newton)",     0};
 inline constexpr Setting kSubsteps{"solver.substeps",           "substeps",             Range::closed(1, 1000),             true,  "",       "",                  "Implicit steps per frame (each time_step / substeps)", 0};
+inline constexpr Setting kThreads{"solver.threads",           "threads",              Range::closed(0, 1024),             true,  "",       "(0 = every core)",  "Threads of a frame's kernels; results are the same for any count", 0};
 inline constexpr Setting kTolerance{"solver.tolerance",         "",                     Range::atLeast(0),                  false, "",       "",                  "Stop below this relative position change (0 = never)", 0};
 inline constexpr Setting kTimeStep{"time_step",                 "",                     Range::closed(1e-6, 1),             false, "s",      "",                  "Time step h",                                        0};
 inline constexpr Setting kDivergenceStrain{"divergence_strain", "",                     Range::atLeast(1),                  false, "",       "(1 = 100 %)",       "Strain beyond which a step counts as diverged",      0};
@@ -110,7 +111,7 @@ inline constexpr Setting kGravity{"gravity",                    "",             
 
 /// Every setting above, in that order (a solver's own settings are in its registry entry).
 inline constexpr const Setting* kAllSettings[] = {
-    &kIterations, &kSubsteps, &kTolerance, &kTimeStep,
+    &kIterations, &kSubsteps, &kThreads, &kTolerance, &kTimeStep,
     &kDivergenceStrain, &kArealDensity, &kDamping,
     &kStructuralStiffness, &kShearStiffness, &kBendingStiffness, &kParticleMass,
     &kRestLength, &kGridResolution, &kGridSize, &kMeshScale,

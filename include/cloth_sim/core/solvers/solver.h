@@ -114,6 +114,11 @@ struct SolverSettings {
   bool warm_start = false;
   /// How the linear systems are solved (same result, different speed), see LinearSolver.
   LinearSolver linear_solver = LinearSolver::kFused;
+  /// Threads of the step's kernels (scene field solver.threads, settings::kThreads; 0 = every
+  /// core the process may use). The work is split in blocks fixed by the problem, never by
+  /// this count, so the result is the same to the bit for any value (docs/architecture.md,
+  /// "Threads").
+  int threads = 0;
   /// The time discretisation (scene field solver.integrator). The implicit solvers all minimise
   /// the same ImplicitStepProblem for it; the explicit baselines refuse kBdf2 and
   /// kImplicitMidpoint.

@@ -1,0 +1,180 @@
+#include "cloth_sim/core/linalg/parallel.h"
+
+#include <sched.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
+
+namespace cloth_sim {
+
+int availableCores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof(set), &set) == 0) return std::max(1, CPU_COUNT(&set));
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+int resolveThreads(int requested) {
+  static const int cores = availableCores();
+  return requested > 0 ? requested : cores;
+}
+
+namespace {
+
+/// How long a waiting thread spins before it sleeps: long enough to catch the next block loop
+/// of the same iteration (they follow each other within microseconds), short enough that on a
+/// machine busy with other work a waiting thread gives its core back almost at once. OpenMP's
+/// default (spin for about 300,000 rounds, then sleep) made two threads 15x slower than one
+/// under a load of 5 on 2 cores; sleeping at once (OMP_WAIT_POLICY=passive) costs a system
+/// call per loop (docs/benchmark.md, "Threads").
+constexpr std::chrono::microseconds kSpin{50};
+
+inline void relax() {
+#if defined(__x86_64__) || defined(__i386__)
+  _mm_pause();
+#endif
+}
+
+/// Spins on @p done for up to kSpin; true if it became true.
+template <typename Done>
+bool spinUntil(Done&& done) {
+  const auto start = std::chrono::steady_clock::now();
+  for (int round = 0;; ++round) {
+    if (done()) return true;
+    relax();
+    if ((round & 63) == 63 && std::chrono::steady_clock::now() - start > kSpin) return false;
+  }
+}
+
+/// The process's worker threads: persistent, started when first needed, each running its
+/// share (a contiguous run of blocks) of one block loop at a time. The calling thread is
+/// worker 0.
+class Team {
+ public:
+  /// Runs @p body on blocks [0, blocks) with @p threads threads (2 .. 65535); false, running
+  /// nothing, if another thread is using the team (the caller then runs the loop itself).
+  bool run(int threads, int blocks, void (*body)(void*, int), void* context) {
+    std::unique_lock<std::mutex> owner(owner_, std::try_to_lock);
+    if (!owner.owns_lock()) return false;
+    grow(threads - 1);
+    job_ = Job{body, context, blocks, threads};
+    remaining_.store(threads - 1, std::memory_order_seq_cst);
+    // The loop's generation and thread count in one word: a worker outside the loop learns
+    // it from this word alone and never reads job_, which the next loop may be rewriting.
+    const std::uint64_t next = ((state_.load(std::memory_order_relaxed) >> 16) + 1) << 16;
+    state_.store(next | static_cast<std::uint64_t>(threads), std::memory_order_seq_cst);
+    if (sleepers_.load(std::memory_order_seq_cst) > 0) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      work_.notify_all();
+    }
+    share(0);
+    if (!spinUntil([&] { return remaining_.load(std::memory_order_acquire) == 0; })) {
+      std::unique_lock<std::mutex> lock(mutex_);
+      caller_waits_.store(true, std::memory_order_seq_cst);
+      done_.wait(lock, [&] { return remaining_.load(std::memory_order_seq_cst) == 0; });
+      caller_waits_.store(false, std::memory_order_relaxed);
+    }
+    return true;
+  }
+
+ private:
+  struct Job {
+    void (*body)(void*, int) = nullptr;
+    void* context = nullptr;
+    int blocks = 0;
+    int threads = 0;
+  };
+
+  /// Worker @p index's blocks of the current job.
+  void share(int index) const {
+    const long begin = static_cast<long>(job_.blocks) * index / job_.threads;
+    const long end = static_cast<long>(job_.blocks) * (index + 1) / job_.threads;
+    for (long b = begin; b < end; ++b) job_.body(job_.context, static_cast<int>(b));
+  }
+
+  /// Starts workers up to @p workers; called before the next loop is published, so a new
+  /// worker starts from the state before it and sees that loop as new.
+  void grow(int workers) {
+    while (static_cast<int>(threads_.size()) < workers) {
+      const int index = static_cast<int>(threads_.size()) + 1;
+      // The state now, not when the thread gets to run: by then the loop it was started for
+      // may be published already, and a worker that took it as seen would sleep through it.
+      const std::uint64_t before = state_.load(std::memory_order_acquire);
+      threads_.emplace_back([this, index, before] { work(index, before); });
+      threads_.back().detach();  // the team lives as long as the process
+    }
+  }
+
+  void work(int index, std::uint64_t seen) {
+    while (true) {
+      const auto fresh = [&] { return state_.load(std::memory_order_acquire) != seen; };
+      if (!spinUntil(fresh)) {
+        sleepers_.fetch_add(1, std::memory_order_seq_cst);
+        std::unique_lock<std::mutex> lock(mutex_);
+        work_.wait(lock, fresh);
+        sleepers_.fetch_sub(1, std::memory_order_relaxed);
+      }
+      seen = state_.load(std::memory_order_acquire);
+      if (index >= static_cast<int>(seen & 0xFFFF)) continue;  // not in this loop
+      // In the loop: the caller waits for this worker before it touches job_ again.
+      share(index);
+      if (remaining_.fetch_sub(1, std::memory_order_seq_cst) == 1 &&
+          caller_waits_.load(std::memory_order_seq_cst)) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        done_.notify_one();
+      }
+    }
+  }
+
+  std::mutex owner_;  ///< held by the thread running a loop
+  Job job_;
+  std::atomic<std::uint64_t> state_{0};  ///< generation << 16 | the loop's thread count
+  std::atomic<int> remaining_{0};
+  std::atomic<int> sleepers_{0};
+  std::atomic<bool> caller_waits_{false};
+  std::mutex mutex_;
+  std::condition_variable work_, done_;
+  std::vector<std::thread> threads_;
+};
+
+Team& team() {
+  static Team* const instance = new Team();  // never destroyed: its threads outlive main
+  return *instance;
+}
+
+/// Whether this thread is inside a block loop's body (a nested loop then runs serially).
+thread_local bool in_body = false;
+
+}  // namespace
+
+namespace detail {
+
+void parallelForImpl(int threads, int blocks, void (*body)(void*, int), void* context) {
+  threads = std::min({threads, blocks, 0xFFFF});
+  if (!in_body && threads > 1) {
+    struct Guarded {
+      void (*body)(void*, int);
+      void* context;
+    } guarded{body, context};
+    const auto run = [](void* g, int b) {
+      const Guarded& inner = *static_cast<Guarded*>(g);
+      in_body = true;
+      inner.body(inner.context, b);
+      in_body = false;
+    };
+    if (team().run(threads, blocks, run, &guarded)) return;
+  }
+  for (int b = 0; b < blocks; ++b) body(context, b);
+}
+
+}  // namespace detail
+}  // namespace cloth_sim
