@@ -23,6 +23,7 @@ add_library(cloth_sim_core
   src/core/collision/colliders.cpp
   src/core/collision/contact_projection.cpp
   src/core/collision/contact_forces.cpp
+  src/core/collision/contact_detection.cpp
   src/core/collision/sphere_impacts.cpp
   src/core/collision/spatial_hash.cpp
   src/core/collision/mesh_obstacle.cpp

@@ -261,6 +261,7 @@ void Simulation::setSelfContact(const SelfContactSettings& settings) {
 
 int Simulation::countIntersections() {
   if (!intersections_) intersections_ = std::make_unique<IntersectionCounter>(model_.triangles);
+  intersections_->setThreads(resolveThreads(options_.settings.threads));
   return intersections_->count(state_.positions);
 }
 

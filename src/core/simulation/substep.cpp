@@ -26,6 +26,8 @@ void SubstepPipeline::run(const SubstepWorld& world, const PinSet& pins, double 
   colliders.advance(h, model.gravity, velocityDecay(model, h));
   const CollisionStep collision{h,     model.mass,        world.movable,
                                 start, &start_velocities, model.gravity};
+  contacts_.setThreads(resolveThreads(world.settings.threads));
+  if (world.self_contact != nullptr) world.self_contact->setThreads(resolveThreads(world.settings.threads));
   contacts_.beginStep(collision, colliders);
   const SolveResult solved = solve(world, input, report);
   // The loads of the solve itself, before the collision response moves soft-pinned particles.

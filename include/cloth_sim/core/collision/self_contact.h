@@ -10,6 +10,7 @@
 
 #include "cloth_sim/core/collision/cell_hash.h"
 #include "cloth_sim/core/collision/colliders.h"
+#include "cloth_sim/core/linalg/parallel.h"
 #include "cloth_sim/core/linalg/types.h"
 
 namespace cloth_sim {
@@ -74,6 +75,9 @@ class SelfContact {
   std::vector<std::pair<int, int>> contacts(const Points& positions);
   /// How many times resolve has rebuilt its pair list (for tests and the benchmark).
   long rebuilds() const { return rebuilds_; }
+  /// Threads of the pair search (fixed blocks of particles: the same pairs, in the same order,
+  /// for any count).
+  void setThreads(int threads) { threads_ = threads; }
 
  private:
   bool neighbours(int i, int j) const;
@@ -94,6 +98,7 @@ class SelfContact {
   Points built_at_;           ///< positions pairs_ was built at (empty: none)
   long rebuilds_ = 0;
   Points before_;
+  int threads_ = 1;
 };
 
 }  // namespace cloth_sim

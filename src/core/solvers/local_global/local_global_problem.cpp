@@ -54,12 +54,14 @@ int LocalGlobalProblem::factorize(const SolverInput& in, LinearSolver backend, d
     springs_.add(a, b, h2 * k * r, k, r);
   }
   springs_.sortByNode();
+  springs_.partition(n);  // the local step's fixed blocks (threads)
   return nf > 0 ? 1 : 0;
 }
 
 int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& settings,
                               const State& state) {
   const Model& model = in.model;
+  threads_ = resolveThreads(settings.threads);
   problem_ = ImplicitStepProblem::build(model, in.pins, state, in.h, settings.integrator);
   h_ = problem_.implicit_h;
   int factorizations = 0;
@@ -132,7 +134,7 @@ void LocalGlobalProblem::buildNodeMatrix(const Eigen::SparseMatrix<double>& a) {
 
 double LocalGlobalProblem::objectiveAndGradient(const NodeBuffer& x, NodeBuffer& gradient) {
   rhs_work_ = rhs_constant_;
-  const double spring_energy = localStep3(springs_, x.data(), rhs_work_.data());
+  const double spring_energy = localStep3(springs_, x.data(), rhs_work_.data(), threads_);
   gradient.assign(x.size(), 0.0);
   const NodeMatrix& m = node_matrix_;
   for (int k = 0; k < free_count_; ++k) {
@@ -155,7 +157,7 @@ double LocalGlobalProblem::objectiveAndGradient(const NodeBuffer& x, NodeBuffer&
 double LocalGlobalProblem::objectiveWith(const NodeBuffer& x, double spring_energy) const {
   const double h2 = h_ * h_;
   return inertiaAndGravity(x.data(), inertial_.data(), node_mass_.data(),
-                           static_cast<int>(node_mass_.size()), gravity_, h2) +
+                           static_cast<int>(node_mass_.size()), gravity_, h2, threads_) +
          h2 * (spring_energy + constant_energy_ + pinEnergy(x));
 }
 
@@ -170,14 +172,14 @@ double LocalGlobalProblem::pinEnergy(const NodeBuffer& x) const {
 }
 
 double LocalGlobalProblem::iterate(const NodeBuffer& x, NodeBuffer& x_next) {
-  x_next = rhs_constant_;
+  copyNodes(rhs_constant_, x_next, threads_);
   if (contacts_ != nullptr && !contacts_->empty()) {
     // Forces from the current iterate first, so the last global solve and the spheres'
     // reactions use the same forces (exact momentum balance).
     contacts_->update(x);
     contacts_->addForces(x_next);
   }
-  const double spring_energy = localStep3(springs_, x.data(), x_next.data());
+  const double spring_energy = localStep3(springs_, x.data(), x_next.data(), threads_);
   system_.solveInPlace(x_next.data());  // global step: the free nodes, x, y and z at once
   const std::size_t pinned_begin = static_cast<std::size_t>(kNodeStride) * free_count_;
   std::copy(x.begin() + pinned_begin, x.end(), x_next.begin() + pinned_begin);
@@ -185,7 +187,7 @@ double LocalGlobalProblem::iterate(const NodeBuffer& x, NodeBuffer& x_next) {
 }
 
 double LocalGlobalProblem::objectiveAt(const NodeBuffer& x) const {
-  return objectiveWith(x, springEnergy3(springs_, x.data()));
+  return objectiveWith(x, springEnergy3(springs_, x.data(), threads_));
 }
 
 NodeBuffer LocalGlobalProblem::initialGuess(const SolverSettings& settings) const {

@@ -121,6 +121,7 @@ class LocalGlobalProblem {
   SpringTable pinned_springs_;      ///< springs with two pinned ends: constant energy
   double h_ = 0.0;                  ///< s, the implicit step h_i of this step
   Vec3 gravity_ = Vec3::Zero();
+  int threads_ = 1;                 ///< the kernels' threads (SolverSettings::threads, resolved)
 
   ImplicitStepProblem problem_;
   NodeBuffer inertial_;             ///< y
