@@ -10,6 +10,7 @@ add_library(cloth_sim_core
   src/core/linalg/block_pattern.cpp
   src/core/linalg/cholmod_factor.cpp
   src/core/linalg/supernodal_solves.cpp
+  src/core/linalg/solve_partition.cpp
   src/core/linalg/parallel.cpp
   src/core/model/model.cpp
   src/core/model/pins.cpp

@@ -26,6 +26,7 @@ void GlobalSystem::factor(const Eigen::SparseMatrix<double>& a, LinearSolver bac
     factor_nonzeros_ = static_cast<long>(cholmod_.factorNonZeros());
     if (ok && backend == LinearSolver::kFused) {
       supernodal_ = makeSupernodal(cholmod_.exportLower());
+      splitSolves(supernodal_);  // the fixed split the threads share (a function of A only)
       order_ = supernodal_.permutation;
     }
   }
@@ -36,7 +37,7 @@ void GlobalSystem::solveInPlace(double* x) {
   const int n = size();
   if (n == 0) return;
   if (backend_ == LinearSolver::kFused) {
-    solveFused3(supernodal_, x);
+    solveFused3(supernodal_, x, threads_);
     return;
   }
   for (int k = 0; k < n; ++k)

@@ -68,6 +68,7 @@ int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& setti
   factor_cache_.ensure(in.revision, settings.linear_solver, h_, [&] {
     factorizations = factorize(in, settings.linear_solver, h_);
   });
+  system_.setThreads(threads_);
   gravity_ = model.gravity;
   const int n = model.particleCount();
   const Points& y = problem_.inertial;

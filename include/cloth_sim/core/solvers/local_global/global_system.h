@@ -29,6 +29,10 @@ class GlobalSystem {
   int size() const { return static_cast<int>(order_.size()); }
   LinearSolver backend() const { return backend_; }
 
+  /// Threads of the fused solves (kFused; SolverSettings::threads resolved): the factor's
+  /// split (splitSolves) runs on them, with the same result for any count.
+  void setThreads(int threads) { threads_ = threads; }
+
   /// Solves A X = B in place; @p x holds size() nodes in order(), kNodeStride doubles each.
   void solveInPlace(double* x);
 
@@ -45,6 +49,7 @@ class GlobalSystem {
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> eigen_;
   Eigen::MatrixX3d columns_, solution_;  // library backends: x, y, z as three columns
   long factor_nonzeros_ = 0;
+  int threads_ = 1;
 };
 
 /// The global step's matrix M + h^2 L_scalar (+ h^2 k on soft-pinned particles) over the free
