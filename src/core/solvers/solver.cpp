@@ -37,6 +37,7 @@ const char* linearSolverName(LinearSolver solver) {
     case LinearSolver::kFused: return "fused";
     case LinearSolver::kCholmod: return "cholmod";
     case LinearSolver::kEigen: return "eigen";
+    case LinearSolver::kFusedFloat: return "fused_float";
   }
   return "unknown";
 }

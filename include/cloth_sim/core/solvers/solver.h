@@ -15,17 +15,23 @@
 namespace cloth_sim {
 
 /// How local/global and chebyshev solve their global step (M + h^2 L) x = b, and how newton
-/// factors its Hessian (kEigen: Eigen SimplicialLLT; the others: CHOLMOD supernodal). All give
-/// the same iterates to round-off; they differ in speed only (docs/benchmark.md, "Performance").
+/// factors its Hessian (kEigen: Eigen SimplicialLLT; the others: CHOLMOD supernodal). The double
+/// ones give the same iterates to round-off; they differ in speed only (docs/benchmark.md,
+/// "Performance").
 enum class LinearSolver {
   kFused,    ///< CHOLMOD factor (AMD or METIS ordering), hand-written fused 3-column solves
   kCholmod,  ///< CHOLMOD factor and CHOLMOD's own solve, x, y and z as three columns
   kEigen,    ///< Eigen SimplicialLLT (AMD) and its solve: the first implementation, kept to compare
+  /// kFused's factor rounded to float and solved in float, for a correction of the double
+  /// residual: x_{k+1} = x_k + A_f^-1 (b(x_k) - A x_k). The same fixed point as kFused (the
+  /// residual is exact), reached along iterates that differ from kFused's by about 1e-7
+  /// relative; newton treats it as kFused (docs/method.md, "Single-precision factor").
+  kFusedFloat,
 };
 /// Every LinearSolver, in the order of the enum.
 inline constexpr LinearSolver kLinearSolvers[] = {LinearSolver::kFused, LinearSolver::kCholmod,
-                                                  LinearSolver::kEigen};
-/// "fused", "cholmod", "eigen".
+                                                  LinearSolver::kEigen, LinearSolver::kFusedFloat};
+/// "fused", "cholmod", "eigen", "fused_float".
 const char* linearSolverName(LinearSolver solver);
 /// The names of kLinearSolvers.
 std::vector<std::string> linearSolverNames();

@@ -181,7 +181,7 @@ double LocalGlobalProblem::iterate(const NodeBuffer& x, NodeBuffer& x_next) {
     contacts_->addForces(x_next);
   }
   const double spring_energy = localStep3(springs_, x.data(), x_next.data(), threads_);
-  system_.solveInPlace(x_next.data());  // global step: the free nodes, x, y and z at once
+  system_.globalStep(x.data(), x_next.data());  // the free nodes, x, y and z at once
   const std::size_t pinned_begin = static_cast<std::size_t>(kNodeStride) * free_count_;
   std::copy(x.begin() + pinned_begin, x.end(), x_next.begin() + pinned_begin);
   return objectiveWith(x, spring_energy);
