@@ -10,6 +10,7 @@
 
 #include <cloth_sim/ClothState.h>
 
+#include "cloth_sim/core/linalg/parallel.h"
 #include "cloth_sim/core/model/strain_field.h"
 #include "cloth_sim/node/conversions.h"
 #include "cloth_sim/node/grasp_output.h"
@@ -207,7 +208,8 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
     std_msgs::Header header;
     header.stamp = simStamp();
     header.frame_id = options_.frame_id;
-    points_pub_.publish(toPointCloud(sim_.state().positions, sim_.model().triangles, header));
+    points_pub_.publish(toPointCloud(sim_.state().positions, sim_.model().triangles, header,
+                                     resolveThreads(sim_.solverSettings().threads)));
   }
   if (markers_pub_.getNumSubscribers() == 0) return;
   const double now = ros::SteadyTime::now().toSec();
@@ -229,7 +231,8 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
   std_msgs::Header header;
   header.stamp = ros::Time::now();
   header.frame_id = options_.frame_id;
-  MarkerBuild build = buildMarkers(scene, style_, header, shown_);
+  MarkerBuild build =
+      buildMarkers(scene, style_, header, shown_, resolveThreads(sim_.solverSettings().threads));
   if (build.sanitized > 0) {
     refuse(names::kMarkers,
            std::to_string(build.sanitized) + " non-finite numbers in the state were drawn as 0");

@@ -109,6 +109,11 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
   read.get("solver", o.solver);
   read.get("iterations", o.iterations);
   read.get("substeps", o.substeps);
+  if (private_params.valid() && private_params.hasMember("threads")) {
+    int threads = 0;
+    read.get("threads", threads);
+    o.threads = threads;
+  }
   if (private_params.valid() && private_params.hasMember("self_collision")) {
     bool on = false;
     read.get("self_collision", on);
@@ -154,6 +159,7 @@ void validateNodeOptions(const NodeOptions& o) {
   } catch (const std::invalid_argument& e) {
     fail("color_mode", e.what());
   }
+  if (o.threads) settings::kThreads.require(*o.threads, "parameter '~threads':");
   // Every number against its rule, in the order of NodeOptions.
   for (const auto& [value, setting] :
        {std::pair<double, const Setting*>{o.render_rate, &settings::kRenderRate},
@@ -207,6 +213,7 @@ SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir) 
   if (options.iterations > 0) overrides.iterations = options.iterations;
   if (options.substeps > 0) overrides.substeps = options.substeps;
   overrides.self_collision = options.self_collision;
+  overrides.threads = options.threads;
   return applyOverrides(std::move(scene), overrides);
 }
 

@@ -32,6 +32,10 @@ struct NodeOptions {
   /// ~substeps: replaces the scene's implicit steps per frame when > 0; 0 keeps the scene's
   /// (range: settings::kSubsteps).
   int substeps = 0;
+  /// ~threads (settings::kThreads): threads of the simulation's kernels and of the marker and
+  /// point-cloud building, 0 = every core; unset keeps the scene's solver.threads (default 0).
+  /// The results are the same for any count.
+  std::optional<int> threads;
   /// ~self_collision: turns the cloth's self-collision on or off whatever the scene says; unset
   /// keeps the scene's (its self_collision field; thickness and friction come from there, or
   /// their defaults). dynamic_reconfigure's self_collision switches it at run time.
@@ -101,7 +105,7 @@ std::string resolveScenePath(const std::string& scene, const std::string& scene_
 std::vector<std::string> shippedScenes(const std::string& scene_dir);
 
 /// Loads the scene file of @p options (resolved against @p scene_dir) and applies ~solver,
-/// ~iterations, ~substeps and ~self_collision to it (checked by validateNodeOptions). Throws
+/// ~iterations, ~substeps, ~threads and ~self_collision to it (checked by validateNodeOptions). Throws
 /// std::invalid_argument "parameter '~scene': <what is wrong>" for a missing or invalid file; a
 /// bare name that is no shipped scene gets the list of shipped scenes (shippedScenes).
 SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir);
