@@ -100,7 +100,7 @@ if(CATKIN_ENABLE_TESTING)
     solvers/baselines/xpbd_solver_test
     simulation/step_report_test simulation/grasp_set_test simulation/frame_inputs_test
     simulation/simulation_test simulation/substeps_test simulation/frame_budget_test
-    simulation/grasp_test
+    simulation/grasp_test simulation/threads_test
     io/scene_test io/bad_scene_random_test
     settings/settings_table_test)
   foreach(path ${CORE_TESTS})
