@@ -14,6 +14,7 @@
 #include "scaling.h"
 #include "speed.h"
 #include "stability.h"
+#include "threads.h"
 
 int main(int argc, char** argv) {
   using namespace cloth_sim::bench;
@@ -109,6 +110,26 @@ int main(int argc, char** argv) {
   scaling_cmd->add_option("--grids", scaling.obstacle_grids, "cloth sizes over the obstacles")
       ->delimiter(',')->capture_default_str()->check(CLI::Range(4, 400));
 
+  ThreadsOptions threads;
+  threads.out_dir = source_dir + "/bench/results";
+  CLI::App* threads_cmd =
+      app.add_subcommand("threads", "ms per kernel and per frame at each thread count and grid");
+  threads_cmd->add_option("--out", threads.out_dir, "output directory")->capture_default_str();
+  threads_cmd->add_option("--grids", threads.grids, "grid sizes (rows = cols)")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(4, 1000));
+  threads_cmd->add_option("--threads", threads.threads, "thread counts")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(1, 1024));
+  threads_cmd->add_option("--solver", threads.solver, "local/global family solver")
+      ->capture_default_str()->check(CLI::IsMember({"local_global", "chebyshev", "anderson"}));
+  threads_cmd->add_option("--iterations", threads.iterations, "iterations per step")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+  threads_cmd->add_option("--linear-solver", threads.linear_solver, "fused or fused_float")
+      ->capture_default_str()->check(CLI::IsMember({"fused", "fused_float"}));
+  threads_cmd->add_option("--repeats", threads.repeats, "timed calls per kernel")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+  threads_cmd->add_option("--frames", threads.frames, "timed frames per thread count")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+
   AccuracyOptions accuracy;
   accuracy.out_dir = source_dir + "/bench/results";
   accuracy.cache_dir = source_dir + "/bench/cache";
@@ -188,6 +209,8 @@ int main(int argc, char** argv) {
     drift.scenes_dir = speed.scenes_dir;
     if (*drift_cmd) runDrift(drift);
     if (*scaling_cmd) runScaling(scaling);
+    threads.scenes_dir = speed.scenes_dir;
+    if (*threads_cmd) runThreads(threads);
     if (*speed_cmd) {
       speed.paper = !no_paper;
       runSpeed(speed);
