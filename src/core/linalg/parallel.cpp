@@ -55,50 +55,70 @@ bool spinUntil(Done&& done) {
   }
 }
 
-/// The process's worker threads: persistent, started when first needed, each running its
-/// share (a contiguous run of blocks) of one block loop at a time. The calling thread is
-/// worker 0.
+/// The process's worker threads: persistent, started when first needed. A loop's blocks are
+/// claimed one at a time from a shared counter by the calling thread and by every worker that
+/// is awake, so a worker that the machine's other jobs keep off its core delays nothing: the
+/// threads that run take its blocks (the caller waits only for blocks already started). Which
+/// thread runs a block changes nothing in the result (each block writes only its own data).
 class Team {
  public:
-  /// Runs @p body on blocks [0, blocks) with @p threads threads (2 .. 65535); false, running
-  /// nothing, if another thread is using the team (the caller then runs the loop itself).
+  /// Runs @p body on blocks [0, blocks) with up to @p threads threads (2 .. 65535); false,
+  /// running nothing, if another thread is using the team (the caller then runs the loop
+  /// itself).
   bool run(int threads, int blocks, void (*body)(void*, int), void* context) {
     std::unique_lock<std::mutex> owner(owner_, std::try_to_lock);
     if (!owner.owns_lock()) return false;
     grow(threads - 1);
-    job_ = Job{body, context, blocks, threads};
-    remaining_.store(threads - 1, std::memory_order_seq_cst);
-    // The loop's generation and thread count in one word: a worker outside the loop learns
-    // it from this word alone and never reads job_, which the next loop may be rewriting.
-    const std::uint64_t next = ((state_.load(std::memory_order_relaxed) >> 16) + 1) << 16;
-    state_.store(next | static_cast<std::uint64_t>(threads), std::memory_order_seq_cst);
+    const std::uint64_t generation = ((state_.load(std::memory_order_relaxed) >> 16) + 1) & kGenerationMask;
+    // Close the claims first: a late worker of the previous loop then claims nothing while the
+    // job's fields change (it would otherwise read the new job under the old generation).
+    claim_.store(generation << 32 | kClosed, std::memory_order_seq_cst);
+    body_.store(body, std::memory_order_relaxed);
+    context_.store(context, std::memory_order_relaxed);
+    blocks_.store(blocks, std::memory_order_relaxed);
+    finished_.store(0, std::memory_order_relaxed);
+    claim_.store(generation << 32, std::memory_order_seq_cst);  // open: block 0 is next
+    // The loop's generation and thread count in one word, what a sleeping worker waits on.
+    state_.store(generation << 16 | static_cast<std::uint64_t>(threads), std::memory_order_seq_cst);
     if (sleepers_.load(std::memory_order_seq_cst) > 0) {
       std::lock_guard<std::mutex> lock(mutex_);
       work_.notify_all();
     }
-    share(0);
-    if (!spinUntil([&] { return remaining_.load(std::memory_order_acquire) == 0; })) {
+    help(generation);
+    const auto all_done = [&] { return finished_.load(std::memory_order_seq_cst) == blocks; };
+    if (!spinUntil(all_done)) {
       std::unique_lock<std::mutex> lock(mutex_);
       caller_waits_.store(true, std::memory_order_seq_cst);
-      done_.wait(lock, [&] { return remaining_.load(std::memory_order_seq_cst) == 0; });
+      done_.wait(lock, all_done);
       caller_waits_.store(false, std::memory_order_relaxed);
     }
     return true;
   }
 
  private:
-  struct Job {
-    void (*body)(void*, int) = nullptr;
-    void* context = nullptr;
-    int blocks = 0;
-    int threads = 0;
-  };
+  static constexpr std::uint64_t kGenerationMask = 0xFFFFFFFFu;
+  static constexpr std::uint64_t kClosed = 0xFFFFFFFFu;  ///< a claim index no loop reaches
 
-  /// Worker @p index's blocks of the current job.
-  void share(int index) const {
-    const long begin = static_cast<long>(job_.blocks) * index / job_.threads;
-    const long end = static_cast<long>(job_.blocks) * (index + 1) / job_.threads;
-    for (long b = begin; b < end; ++b) job_.body(job_.context, static_cast<int>(b));
+  /// Claims and runs blocks of loop @p generation until none is left (or another loop began).
+  void help(std::uint64_t generation) {
+    while (true) {
+      std::uint64_t claim = claim_.load(std::memory_order_acquire);
+      if ((claim >> 32) != generation) return;
+      const std::uint64_t block = claim & 0xFFFFFFFFu;
+      const int blocks = blocks_.load(std::memory_order_relaxed);
+      if (block >= static_cast<std::uint64_t>(blocks)) return;  // all claimed (or closed)
+      void (*body)(void*, int) = body_.load(std::memory_order_relaxed);
+      void* context = context_.load(std::memory_order_relaxed);
+      // Succeeds only if no other thread claimed it and the loop is still this one, so the
+      // fields read above are this loop's.
+      if (!claim_.compare_exchange_weak(claim, claim + 1, std::memory_order_acq_rel)) continue;
+      body(context, static_cast<int>(block));
+      if (finished_.fetch_add(1, std::memory_order_seq_cst) + 1 == blocks &&
+          caller_waits_.load(std::memory_order_seq_cst)) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        done_.notify_one();
+      }
+    }
   }
 
   /// Starts workers up to @p workers; called before the next loop is published, so a new
@@ -125,20 +145,19 @@ class Team {
       }
       seen = state_.load(std::memory_order_acquire);
       if (index >= static_cast<int>(seen & 0xFFFF)) continue;  // not in this loop
-      // In the loop: the caller waits for this worker before it touches job_ again.
-      share(index);
-      if (remaining_.fetch_sub(1, std::memory_order_seq_cst) == 1 &&
-          caller_waits_.load(std::memory_order_seq_cst)) {
-        std::lock_guard<std::mutex> lock(mutex_);
-        done_.notify_one();
-      }
+      help(seen >> 16);
     }
   }
 
   std::mutex owner_;  ///< held by the thread running a loop
-  Job job_;
+  /// The loop's job (atomics: a late worker may read them while the next loop writes them; it
+  /// then fails to claim and reads nothing it uses).
+  std::atomic<void (*)(void*, int)> body_{nullptr};
+  std::atomic<void*> context_{nullptr};
+  std::atomic<int> blocks_{0};
+  std::atomic<std::uint64_t> claim_{0};  ///< generation << 32 | the next block to claim
+  std::atomic<int> finished_{0};         ///< blocks of the loop run to the end
   std::atomic<std::uint64_t> state_{0};  ///< generation << 16 | the loop's thread count
-  std::atomic<int> remaining_{0};
   std::atomic<int> sleepers_{0};
   std::atomic<bool> caller_waits_{false};
   std::mutex mutex_;

@@ -253,9 +253,9 @@ void forwardPhases(const SupernodalFactorT<Real>& f, Real* x, int threads) {
   const SolveTasks::Schedule& plan = f.tasks.schedule(threads);
   parallelFor(threads, static_cast<int>(plan.groups.size()), [&](int g) {
     for (int t : plan.groups[g]) forwardTask(f, t, x);
-  });
+  }, 2);
   for (const std::vector<int>& phase : plan.top) {
-    parallelFor(threads, static_cast<int>(phase.size()), [&](int k) { forwardTask(f, phase[k], x); });
+    parallelFor(threads, static_cast<int>(phase.size()), [&](int k) { forwardTask(f, phase[k], x); }, 2);
   }
 }
 
@@ -265,12 +265,12 @@ void backwardPhases(const SupernodalFactorT<Real>& f, Real* x, int threads) {
   const SolveTasks::Schedule& plan = f.tasks.schedule(threads);
   for (auto phase = plan.top.rbegin(); phase != plan.top.rend(); ++phase) {
     parallelFor(threads, static_cast<int>(phase->size()),
-                [&](int k) { backwardTask(f, (*phase)[k], x); });
+                [&](int k) { backwardTask(f, (*phase)[k], x); }, 2);
   }
   parallelFor(threads, static_cast<int>(plan.groups.size()), [&](int g) {
     const std::vector<int>& group = plan.groups[g];
     for (auto t = group.rbegin(); t != group.rend(); ++t) backwardTask(f, *t, x);
-  });
+  }, 2);
 }
 
 }  // namespace

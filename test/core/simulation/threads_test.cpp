@@ -70,7 +70,7 @@ TEST(Threads, SplitSolvesAndAccelerationsGiveTheSameBitsAtEveryThreadCount) {
   for (const std::string solver : {"local_global", "chebyshev", "anderson", "lbfgs"}) {
     for (const LinearSolver linear : {LinearSolver::kFused, LinearSolver::kFusedFloat}) {
       SceneOverrides o;
-      o.resolution = 40;
+      o.resolution = 64;
       o.solver = solver;
       o.substeps = 2;
       o.iterations = 5;

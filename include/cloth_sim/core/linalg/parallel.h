@@ -1,6 +1,7 @@
 /// @file parallel.h
 /// The kernels' threads: a fixed split of the work into blocks, and a loop that runs the blocks
-/// on up to N threads (a persistent team of std::threads that spin briefly, then sleep). The
+/// on up to N threads (a persistent team of std::threads that claim blocks from a shared
+/// counter, and spin briefly, then sleep, between loops). The
 /// split depends on the problem only, never on the thread count, and every sum over blocks is
 /// added in block order, so a kernel gives the same bits on any number of threads
 /// (docs/architecture.md, "Threads").
@@ -34,19 +35,25 @@ struct BlockSplit {
   std::size_t end(int b) const { return std::min(count, begin(b) + grain); }
 };
 
+/// Fewest blocks a loop must have to run on more than one thread (parallelFor's default).
+/// The kernels' blocks take about 10-50 us each; below 4 of them, waking and waiting for a
+/// second thread costs more than it saves on a machine whose cores are busy with other work.
+constexpr int kMinParallelBlocks = 4;
+
 namespace detail {
 void parallelForImpl(int threads, int blocks, void (*body)(void*, int), void* context);
 }  // namespace detail
 
-/// Calls @p body(b) once for every block b in [0, @p blocks), on up to @p threads threads
-/// (contiguous runs of blocks per thread, the same run for the same thread every call, so a
-/// thread finds its blocks' data in its own cache). Which thread runs a block is unspecified:
-/// body(b) must write only what block b owns, and must not throw. Serial, in block order, when
-/// @p threads <= 1 or there is one block; a call from inside a body, or while another thread's
-/// loop holds the team, also runs serially.
+/// Calls @p body(b) once for every block b in [0, @p blocks), on up to @p threads threads (the
+/// blocks claimed one at a time by whichever thread is free, so a thread that the machine keeps
+/// waiting delays no one). Which thread runs a block is unspecified: body(b) must write only
+/// what block b owns, and must not throw. Serial, in block order, when @p threads <= 1 or there
+/// are fewer than @p min_blocks blocks (a loop of a few small blocks costs more to share than
+/// it saves; the solves, whose few blocks are large, pass 2); a call from inside a body, or
+/// while another thread's loop holds the team, also runs serially.
 template <typename Body>
-void parallelFor(int threads, int blocks, Body&& body) {
-  if (threads <= 1 || blocks <= 1) {
+void parallelFor(int threads, int blocks, Body&& body, int min_blocks = kMinParallelBlocks) {
+  if (threads <= 1 || blocks <= 1 || blocks < min_blocks) {
     for (int b = 0; b < blocks; ++b) body(b);
     return;
   }

@@ -104,7 +104,7 @@ SupernodalFactor makeSupernodal(const LowerFactor& lower, int max_width = kMaxSu
 /// Leaves of the solves' split: at most 2^kSolveSplitDepth, each with at least kMinSolveTask
 /// factor entries (a smaller task costs more in synchronisation than it saves).
 constexpr int kSolveSplitDepth = 4;
-constexpr long kMinSolveTask = 16384;
+constexpr long kMinSolveTask = 32768;
 
 /// Splits @p factor's solves into tasks (SolveTasks; solve_partition.cpp) by recursive
 /// bisection of its elimination tree: the root's chain of supernodes down to the first branching
