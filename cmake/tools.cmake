@@ -22,7 +22,7 @@ endif()
 add_library(cloth_sim_bench_lib STATIC
   tools/bench/cases.cpp tools/bench/reference.cpp tools/bench/speed.cpp tools/bench/stability.cpp
   tools/bench/floor.cpp tools/bench/scaling.cpp tools/bench/accuracy.cpp tools/bench/drift.cpp
-  tools/bench/threads.cpp)
+  tools/bench/threads.cpp tools/bench/precision.cpp)
 target_link_libraries(cloth_sim_bench_lib PUBLIC cloth_sim_core)
 add_executable(cloth_sim_bench tools/bench/bench_main.cpp)
 target_link_libraries(cloth_sim_bench cloth_sim_bench_lib CLI11::CLI11)

@@ -11,6 +11,7 @@
 #include "cloth_sim/core/solvers/registry.h"
 #include "drift.h"
 #include "floor.h"
+#include "precision.h"
 #include "scaling.h"
 #include "speed.h"
 #include "stability.h"
@@ -130,6 +131,20 @@ int main(int argc, char** argv) {
   threads_cmd->add_option("--frames", threads.frames, "timed frames per thread count")
       ->capture_default_str()->check(CLI::Range(1, 100000));
 
+  PrecisionOptions precision;
+  precision.out_dir = source_dir + "/bench/results";
+  CLI::App* precision_cmd = app.add_subcommand(
+      "precision", "the float factor against the double one: speed and the fixed point reached");
+  precision_cmd->add_option("--out", precision.out_dir, "output directory")->capture_default_str();
+  precision_cmd->add_option("--grids", precision.grids, "grid sizes (rows = cols)")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(4, 1000));
+  precision_cmd->add_option("--threads", precision.threads, "thread counts")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(1, 1024));
+  precision_cmd->add_option("--repeats", precision.repeats, "timed calls per kernel")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+  precision_cmd->add_option("--frames", precision.frames, "frames of the compared trajectories")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+
   AccuracyOptions accuracy;
   accuracy.out_dir = source_dir + "/bench/results";
   accuracy.cache_dir = source_dir + "/bench/cache";
@@ -211,6 +226,8 @@ int main(int argc, char** argv) {
     if (*scaling_cmd) runScaling(scaling);
     threads.scenes_dir = speed.scenes_dir;
     if (*threads_cmd) runThreads(threads);
+    precision.scenes_dir = speed.scenes_dir;
+    if (*precision_cmd) runPrecision(precision);
     if (*speed_cmd) {
       speed.paper = !no_paper;
       runSpeed(speed);
