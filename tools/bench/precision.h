@@ -21,7 +21,8 @@ struct PrecisionOptions {
 /// float one at each thread count, interleaved; then compares the two backends' results: after
 /// one frame converged to a relative change of 1e-13 (the fixed point), after one frame of 10
 /// iterations, and after @c frames frames of 10 iterations (as RMS and max distance, as a
-/// fraction of the cloth's diagonal). Writes precision.csv (grid, particles, quantity, threads,
+/// fraction of the cloth's diagonal), the last beside the distance between two double backends
+/// that differ in round-off only (fused and CHOLMOD's solve). Writes precision.csv (grid, particles, quantity, threads,
 /// value) and prints a summary.
 void runPrecision(const PrecisionOptions& options);
 
