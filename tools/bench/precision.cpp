@@ -14,13 +14,6 @@
 namespace cloth_sim::bench {
 namespace {
 
-/// Milliseconds of one call of @p f.
-double timeMs(const std::function<void()>& f) {
-  const double t0 = now();
-  f();
-  return 1e3 * (now() - t0);
-}
-
 /// The positions after @p frames frames of @p config with @p linear, @p iterations per step and
 /// @p tolerance; @p iterations_done gets the last frame's iterations.
 Points runFrames(const SceneConfig& config, LinearSolver linear, int iterations, double tolerance,
@@ -48,11 +41,8 @@ Distance distance(const Points& a, const Points& b) {
 }  // namespace
 
 void runPrecision(const PrecisionOptions& o) {
-  std::filesystem::create_directories(o.out_dir);
-  const std::string path = o.out_dir + "/precision.csv";
-  std::ofstream csv(path);
-  if (!csv) throw std::runtime_error("cannot write " + path);
-  csv << "grid,particles,quantity,threads,value\n";
+  std::string path;
+  std::ofstream csv = openCsv(o.out_dir, "precision.csv", "grid,particles,quantity,threads,value", path);
   for (int grid : o.grids) {
     const BenchCase c = makeCase(o.scenes_dir, "hanging", grid);
     const SceneConfig config = applyOverrides(c.config, [] {

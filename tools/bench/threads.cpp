@@ -27,22 +27,14 @@ SceneConfig configAt(const BenchCase& c, const ThreadsOptions& o, int threads) {
   return applyOverrides(c.config, overrides);
 }
 
-/// Milliseconds of one call of @p f.
-double timeMs(const std::function<void()>& f) {
-  const double t0 = now();
-  f();
-  return 1e3 * (now() - t0);
-}
-
 }  // namespace
 
 void runThreads(const ThreadsOptions& o) {
-  std::filesystem::create_directories(o.out_dir);
-  const std::string path = o.out_dir + "/threads.csv";
-  std::ofstream csv(path);
-  if (!csv) throw std::runtime_error("cannot write " + path);
-  csv << "grid,particles,springs,factor_nonzeros,solve_tasks,kernel,threads,ms_median,ms_min,"
-         "samples\n";
+  std::string path;
+  std::ofstream csv = openCsv(o.out_dir, "threads.csv",
+                              "grid,particles,springs,factor_nonzeros,solve_tasks,kernel,threads,"
+                              "ms_median,ms_min,samples",
+                              path);
   for (int grid : o.grids) {
     const BenchCase c = makeCase(o.scenes_dir, "hanging", grid);
     // One simulation per thread count, all at the same moving state (the same bits).
