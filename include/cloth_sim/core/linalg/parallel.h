@@ -25,13 +25,17 @@ int resolveThreads(int requested);
 /// [0, count) cut into blocks of @p grain items (the last one shorter): block b is
 /// [b * grain, min((b + 1) * grain, count)). A function of count and grain only.
 struct BlockSplit {
-  std::size_t count = 0;
-  std::size_t grain = 1;
+  std::size_t count = 0;  ///< items split
+  std::size_t grain = 1;  ///< items per block (>= 1)
 
   BlockSplit() = default;
+  /// @p count items in blocks of @p grain (0 is taken as 1).
   BlockSplit(std::size_t count, std::size_t grain) : count(count), grain(std::max<std::size_t>(grain, 1)) {}
+  /// Number of blocks, ceil(count / grain).
   int blocks() const { return static_cast<int>((count + grain - 1) / grain); }
+  /// First item of block @p b.
   std::size_t begin(int b) const { return static_cast<std::size_t>(b) * grain; }
+  /// One past the last item of block @p b.
   std::size_t end(int b) const { return std::min(count, begin(b) + grain); }
 };
 

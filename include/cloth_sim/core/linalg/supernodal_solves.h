@@ -43,6 +43,7 @@ struct SolveTasks {
   std::vector<int> phase_begin;   ///< phase p: tasks [phase_begin[p], phase_begin[p + 1])
   int slots = 0;                  ///< scratch nodes in all
 
+  /// Number of phases (0 without a split).
   int phases() const { return phase_begin.empty() ? 0 : static_cast<int>(phase_begin.size()) - 1; }
 
   /// How T threads run the tasks (schedule()): the subtrees below level k = ceil(log2 T) each

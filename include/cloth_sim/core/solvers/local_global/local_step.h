@@ -47,7 +47,10 @@ struct SpringTable {
   /// Blocks of the partition (1 without one).
   int blocks() const { return node_begin.empty() ? 1 : static_cast<int>(node_begin.size()) - 1; }
 
+  /// Per block (blocks() + 1 entries): its first node, first spring and first outgoing slot.
   std::vector<int> node_begin, spring_begin, out_begin;
+  /// Per block, [incoming_begin[b], incoming_begin[b + 1]) of the slot, node and sign lists:
+  /// the boundary pushes block b adds to its own nodes, in slot order.
   std::vector<int> incoming_begin, incoming_slot, incoming_node, incoming_sign;
   /// The boundary springs' pushes (kNodeStride doubles per slot): localStep3's work buffer.
   mutable NodeBuffer boundary_push;
