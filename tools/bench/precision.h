@@ -1,5 +1,5 @@
 // The single-precision factor against the double one: speed of the solves and of an iteration,
-// and the fixed point reached (docs/benchmark.md, "Threads and the single-precision factor").
+// and the fixed point reached (docs/benchmark.md, "Threads", "The single-precision factor").
 #pragma once
 
 #include <string>
