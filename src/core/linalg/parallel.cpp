@@ -32,10 +32,9 @@ namespace {
 
 /// How long a waiting thread spins before it sleeps: long enough to catch the next block loop
 /// of the same iteration (they follow each other within microseconds), short enough that on a
-/// machine busy with other work a waiting thread gives its core back almost at once. OpenMP's
-/// default (spin for about 300,000 rounds, then sleep) made two threads 15x slower than one
-/// under a load of 5 on 2 cores; sleeping at once (OMP_WAIT_POLICY=passive) costs a system
-/// call per loop (docs/benchmark.md, "Threads").
+/// machine busy with other work a waiting thread gives its core back almost at once (libgomp's
+/// default spins for about 300,000 rounds first; sleeping at once, OMP_WAIT_POLICY=passive,
+/// costs a system call per loop). No OpenMP build was measured against this team.
 constexpr std::chrono::microseconds kSpin{50};
 
 inline void relax() {
