@@ -21,6 +21,9 @@ add_library(cloth_sim_core
   src/core/model/grid_builder.cpp
   src/core/model/triangle_mesh.cpp
   src/core/model/mesh_builder.cpp
+  src/core/model/mesh_file.cpp
+  src/core/collision/body_collider.cpp
+  src/core/collision/body_contact.cpp
   src/core/collision/colliders.cpp
   src/core/collision/contact_projection.cpp
   src/core/collision/contact_forces.cpp
@@ -53,9 +56,12 @@ add_library(cloth_sim_core
   src/core/simulation/frame_inputs.cpp
   src/core/simulation/substep.cpp
   src/core/simulation/simulation.cpp
+  src/core/simulation/simulation_snapshot.cpp
   src/core/simulation/frame_budget.cpp
+  src/core/simulation/step_controller.cpp
   src/core/io/scene_fields.cpp
   src/core/io/scene_reader.cpp
+  src/core/io/scene_bodies.cpp
   src/core/io/scene_builder.cpp
   src/core/io/scene_overrides.cpp
   src/core/io/scene_limits.cpp
@@ -87,8 +93,9 @@ if(CATKIN_ENABLE_TESTING)
   set(CORE_TESTS
     linalg/cholmod_factor_test linalg/supernodal_solves_test linalg/parallel_test
     model/model_test model/pins_test model/spring_kernels_test model/strain_field_test
-    model/grid_builder_test model/triangle_mesh_test model/mesh_builder_test
-    collision/colliders_test collision/mesh_obstacle_test collision/sphere_impacts_test
+    model/grid_builder_test model/triangle_mesh_test model/mesh_builder_test model/mesh_file_test
+    collision/colliders_test collision/body_collider_test collision/mesh_obstacle_test collision/sphere_impacts_test
+    collision/friction_test
     collision/dynamic_spheres_test collision/contact_random_test
     collision/cell_hash_test collision/triangle_intersection_test collision/self_contact_test
     collision/self_contact_scenes_test
@@ -100,8 +107,9 @@ if(CATKIN_ENABLE_TESTING)
     solvers/baselines/xpbd_solver_test
     simulation/step_report_test simulation/grasp_set_test simulation/frame_inputs_test
     simulation/simulation_test simulation/substeps_test simulation/frame_budget_test
-    simulation/grasp_test simulation/threads_test
-    io/scene_test io/bad_scene_random_test
+    simulation/error_control_test
+    simulation/grasp_test simulation/snapshot_test simulation/body_motion_test simulation/threads_test
+    io/scene_test io/scene_bodies_test io/bad_scene_random_test
     settings/settings_table_test)
   foreach(path ${CORE_TESTS})
     get_filename_component(t ${path} NAME)

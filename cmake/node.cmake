@@ -20,6 +20,8 @@ add_library(cloth_sim_ros
   src/node/render_pacer.cpp
   src/node/reconfigure_bridge.cpp
   src/node/diagnostics_report.cpp
+  src/node/urdf_colliders.cpp
+  src/node/body_messages.cpp
 )
 target_include_directories(cloth_sim_ros PUBLIC include)
 target_link_libraries(cloth_sim_ros PUBLIC cloth_sim_core ${catkin_LIBRARIES})
@@ -32,6 +34,8 @@ add_executable(cloth_sim_node
   src/node/node_inputs.cpp
   src/node/node_time.cpp
   src/node/node_grasps.cpp
+  src/node/node_colliders.cpp
+  src/node/node_state.cpp
 )
 target_link_libraries(cloth_sim_node cloth_sim_ros)
 
@@ -43,7 +47,7 @@ add_executable(pin_teleop tools/pin_teleop/pin_teleop_main.cpp)
 target_link_libraries(pin_teleop cloth_sim_teleop)
 
 # The grasp demo's scripted gripper (launch/grasp_demo.launch).
-catkin_install_python(PROGRAMS tools/gripper/scripted_gripper.py
+catkin_install_python(PROGRAMS tools/gripper/scripted_gripper.py tools/gripper/pinch_gripper.py
   DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
 install(TARGETS cloth_sim_ros cloth_sim_node pin_teleop
@@ -58,7 +62,7 @@ if(CATKIN_ENABLE_TESTING)
   set(NODE_UNIT_TESTS
     options_test conversions_test frame_resolver_test marker_builder_test step_monitor_test
     pin_handles_test reconfigure_cfg_test grasp_frames_test grasp_output_test render_pacer_test
-    reconfigure_bridge_test diagnostics_report_test)
+    reconfigure_bridge_test diagnostics_report_test urdf_colliders_test body_messages_test)
   foreach(t ${NODE_UNIT_TESTS})
     catkin_add_gtest(node_${t} test/node/${t}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
     target_link_libraries(node_${t} cloth_sim_ros GTest::gtest_main)
@@ -74,7 +78,7 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(cloth_sim_rostest_util PUBLIC cloth_sim_ros GTest::gtest)
   target_compile_definitions(cloth_sim_rostest_util PUBLIC
                              CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-  set(NODE_ROSTESTS integration bad_input bad_input_random reconfigure grasp)
+  set(NODE_ROSTESTS integration bad_input bad_input_random reconfigure grasp robot pinch tf_buffer)
   foreach(t ${NODE_ROSTESTS})
     add_rostest_gtest(node_${t}_test test/node/${t}.test test/node/${t}_test.cpp)
     target_link_libraries(node_${t}_test cloth_sim_rostest_util)
@@ -82,6 +86,9 @@ if(CATKIN_ENABLE_TESTING)
                                CLOTH_SIM_NODE_EXE="$<TARGET_FILE:cloth_sim_node>")
     add_dependencies(node_${t}_test cloth_sim_node)
   endforeach()
-  # The grasp demo as users launch it, headless; the check is a Python script (no build).
+  # The same pinch test binary with the fingers' friction at 0.1: the cloth slips out.
+  add_rostest(test/node/pinch_slip.test DEPENDENCIES node_pinch_test)
+  # The grasp and pinch demos as users launch them, headless; the checks are Python scripts.
   add_rostest(test/node/grasp_demo.test DEPENDENCIES cloth_sim_node)
+  add_rostest(test/node/pinch_demo.test DEPENDENCIES cloth_sim_node)
 endif()

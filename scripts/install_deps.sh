@@ -14,6 +14,9 @@ PACKAGES=(
   # node extras
   libinteractive-markers-dev libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   libdiagnostic-updater-dev rviz librviz-dev
+  # the robot's body as colliders (URDF) and the cloth/step_frames action
+  liburdf-dev liburdfdom-dev libactionlib-dev libactionlib-msgs-dev ros-actionlib-msgs
+  python3-actionlib python3-actionlib-msgs
   # Python message modules, so rostopic / rosservice can show the node's topics and services
   python3-visualization-msgs python3-std-srvs python3-diagnostic-msgs
   # the grasp demo's scripted gripper and its test (Python, /usr/bin/python3)

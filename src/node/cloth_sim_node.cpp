@@ -9,9 +9,11 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <cloth_sim/ClothState.h>
+#include <cloth_sim/FrameState.h>
 
 #include "cloth_sim/core/linalg/parallel.h"
 #include "cloth_sim/core/model/strain_field.h"
+#include "cloth_sim/node/body_messages.h"
 #include "cloth_sim/node/conversions.h"
 #include "cloth_sim/node/grasp_output.h"
 #include "cloth_sim/node/names.h"
@@ -49,9 +51,11 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       style_(styleFor(options_, sim_, limits_)),
       ground_size_(std::max(3.0, 3.0 * limits_.size)),
       real_time_(ros::SteadyTime::now().toSec()),
+      tf_buffer_(ros::Duration(options_.tf_buffer_duration)),
       tf_listener_(tf_buffer_),
       frames_(tf_buffer_, options_.frame_id),
       grasp_frames_(tf_buffer_, options_.frame_id, options_.grasp_frame_timeout),
+      body_frames_(tf_buffer_, options_.frame_id, options_.grasp_frame_timeout),
       // With ~publish_clock the node owns ROS time (names::kSimTimeOriginSec says why not 0).
       clock_(options_.publish_clock ? ros::Time(names::kSimTimeOriginSec, 0) : ros::Time::now()),
       paused_(options_.start_paused),
@@ -63,6 +67,9 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
   // Each substep asks where the grasp frames are at its own simulated time.
   sim_.setGraspPoseSource(
       [this](int id, double t) { return grasp_frames_.poseAt(id, clock_.stamp(t)); });
+  // And where the bodies on frames are (the scene's, the robot's links, cloth/add_collider's).
+  trackSceneBodies();
+  sim_.setBodyPoseSource([this](int id, double t) { return bodyPoseAt(id, t); });
   publishClock();
   startDiagnostics();
   startReconfigure();
@@ -81,6 +88,7 @@ void ClothSimNode::advertiseTopics() {
   markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>(names::kMarkers, 2);
   state_pub_ = nh_.advertise<ClothState>(names::kState, 10);
   points_pub_ = nh_.advertise<sensor_msgs::PointCloud2>(names::kPoints, 2);
+  frame_state_pub_ = nh_.advertise<FrameState>(names::kFrameState, 10);
   if (options_.publish_clock) {
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>(names::kClock, 10, /*latch=*/true);
     if (!ros::Time::isSimTime()) {
@@ -103,7 +111,18 @@ void ClothSimNode::advertiseServices() {
       nh_.advertiseService(names::kPause, &ClothSimNode::onPause, this),
       nh_.advertiseService(names::kUnpause, &ClothSimNode::onUnpause, this),
       nh_.advertiseService(names::kStep, &ClothSimNode::onStep, this),
+      nh_.advertiseService(names::kAddCollider, &ClothSimNode::onAddCollider, this),
+      nh_.advertiseService(names::kRemoveCollider, &ClothSimNode::onRemoveCollider, this),
+      nh_.advertiseService(names::kMoveSphere, &ClothSimNode::onMoveSphere, this),
+      nh_.advertiseService(names::kGetState, &ClothSimNode::onGetState, this),
+      nh_.advertiseService(names::kSetState, &ClothSimNode::onSetState, this),
   };
+  // Goals arrive on the global queue like every other callback: no thread of its own.
+  step_action_ = std::make_unique<actionlib::SimpleActionServer<StepFramesAction>>(
+      nh_, names::kStepFrames, /*auto_start=*/false);
+  step_action_->registerGoalCallback([this] { onStepGoal(); });
+  step_action_->registerPreemptCallback([this] { onStepCancel(); });
+  step_action_->start();
 }
 
 void ClothSimNode::startDiagnostics() {
@@ -137,7 +156,11 @@ void ClothSimNode::startTimers() {
   // run between them: one spinner thread, one queue).
   const double h = sim_.frameTime();
   const double period = options_.real_time_factor > 0.0 ? h / options_.real_time_factor : 1e-5;
-  step_timer_ = nh_.createSteadyTimer(ros::WallDuration(period), &ClothSimNode::step, this);
+  // Paused, the timer is stopped (cloth/unpause starts it): an idle node sleeps.
+  step_timer_ = nh_.createSteadyTimer(ros::WallDuration(period), &ClothSimNode::step, this,
+                                      /*oneshot=*/false, /*autostart=*/!paused_);
+  step_action_timer_ = nh_.createSteadyTimer(ros::WallDuration(1e-4), &ClothSimNode::stepActionTick,
+                                             this, false, /*autostart=*/false);
   render_timer_ = nh_.createSteadyTimer(ros::WallDuration(1.0 / options_.render_rate),
                                         &ClothSimNode::render, this);
   diagnostics_timer_ =
@@ -173,8 +196,11 @@ void ClothSimNode::stepFrame() {
                                 monitor_.divergenceResets()};
     ClothState state = toClothState(sim_, last_report_, counters, header);
     addGraspInfo(state);
+    addColliderInfo(state);
     state_pub_.publish(state);
   }
+  publishFrameState();
+  warnFramesBeforeBuffer();
   publishWrenches(header.stamp);
   publishClock();
   if (!rolled_back) adaptSubsteps();
@@ -193,6 +219,12 @@ void ClothSimNode::stepFrame() {
 void ClothSimNode::adaptSubsteps() {
   if (!budget_) return;
   SolverSettings settings = sim_.solverSettings();
+  if (settings.automaticSubsteps()) {
+    // The error estimate chooses the substeps; the budget only bounds them (the reports say
+    // when the tolerance needs more: StepReport::tolerance_unreachable).
+    sim_.setSubstepLimit(budget_->next(sim_.substeps(), last_report_.wall_time));
+    return;
+  }
   const int chosen = budget_->next(settings.substeps, last_report_.wall_time);
   if (chosen == settings.substeps) return;
   settings.substeps = chosen;
@@ -240,6 +272,7 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
   shown_ = std::move(build.shown);
   appendGraspMarkers(sim_.grasps(), grasp_frames_, options_.force_arrow_scale, header,
                      shown_grasps_, build.markers);
+  appendBodyMarkers(sim_.colliders().bodies().bodies(), header, shown_bodies_, build.markers);
   pacer_.sent(now, ros::serialization::serializationLength(build.markers));
   markers_pub_.publish(build.markers);
 }
@@ -262,6 +295,7 @@ void ClothSimNode::resetSimulation(const std::string& why, bool automatic) {
   } else {
     sim_.reset();
     forgetGrasps();
+    trackSceneBodies();  // the bodies added at run time are gone
   }
   steps_since_reset_ = 0;
   monitor_.clearFailures();
@@ -299,6 +333,9 @@ void ClothSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status)
   in.solver = sim_.solver().name();
   in.substeps = sim_.solverSettings().substeps;
   in.iterations = sim_.solverSettings().max_iterations;
+  in.error_tolerance = sim_.solverSettings().error_tolerance;
+  in.error_estimate = last_report_.error_estimate;
+  in.tolerance_unreachable = last_report_.tolerance_unreachable;
   in.frame_budget = budget_ ? budget_->budget() : 0.0;
   in.window = monitor_.takeWindow();
   in.real_time_factor = real_time_.take(ros::SteadyTime::now().toSec());

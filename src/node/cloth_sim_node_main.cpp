@@ -5,6 +5,7 @@
 #include "cloth_sim/node/cloth_sim_node.h"
 #include "cloth_sim/node/names.h"
 #include "cloth_sim/node/options.h"
+#include "cloth_sim/node/urdf_colliders.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, cloth_sim::node::names::kNode);
@@ -14,7 +15,24 @@ int main(int argc, char** argv) {
     ros::param::get(pnh.getNamespace(), params);
     const cloth_sim::node::NodeOptions options = cloth_sim::node::parseNodeOptions(params);
     const std::string scene_dir = ros::package::getPath("cloth_sim") + "/config/scenes";
-    const cloth_sim::SceneConfig scene = cloth_sim::node::loadScene(options, scene_dir);
+    cloth_sim::SceneConfig scene = cloth_sim::node::loadScene(options, scene_dir);
+    if (!options.robot_links.empty()) {  // the robot's links join the scene's bodies
+      std::string urdf = options.robot_description;
+      if (urdf.empty() && !nh.getParam("robot_description", urdf)) {
+        throw std::invalid_argument(
+            "parameter '~robot_links': set, but neither ~robot_description nor robot_description "
+            "holds a URDF");
+      }
+      try {
+        for (cloth_sim::BodyCollider& b : cloth_sim::node::urdfColliders(
+                 urdf, options.robot_links, options.robot_margin, options.robot_friction,
+                 cloth_sim::node::resolveMeshUrl)) {
+          scene.bodies.push_back(std::move(b));
+        }
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string("parameter '~robot_links': ") + e.what());
+      }
+    }
     cloth_sim::node::ClothSimNode node(nh, pnh, options, scene.name,
                                        cloth_sim::node::buildScene(scene));
     ros::spin();  // one thread: see ClothSimNode

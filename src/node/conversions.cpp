@@ -87,6 +87,11 @@ ClothState toClothState(const Simulation& sim, const StepReport& report,
   s.solve_wall_time = report.solve_time;
   s.solver = sim.solver().name();
   s.iterations = report.iterations;
+  s.total_iterations = report.total_iterations;
+  s.iteration_error = report.iteration_error;
+  s.error_estimate = report.error_estimate;
+  s.error_tolerance = report.error_tolerance;
+  s.tolerance_unreachable = report.tolerance_unreachable;
   s.substeps = report.substeps;
   s.convergence = report.convergence;
   s.converged = report.converged;

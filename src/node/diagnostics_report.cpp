@@ -35,6 +35,11 @@ DiagnosticsReport diagnosticsReport(const DiagnosticsInput& in) {
   add("substeps per frame", std::to_string(in.substeps));
   add("frame budget (ms)", fixed3(1e3 * in.frame_budget));
   add("iterations per substep", std::to_string(in.iterations));
+  char metres[64];
+  std::snprintf(metres, sizeof metres, "%.3g", in.error_tolerance);
+  add("error tolerance (m)", metres);
+  std::snprintf(metres, sizeof metres, "%.3g", in.error_estimate);
+  add("error estimate (m)", metres);
   add("step budget (ms)", fixed3(1e3 * w.budget));
   add("mean step time (ms)", fixed3(1e3 * w.mean_time));
   add("max step time (ms)", fixed3(1e3 * w.max_time));
@@ -51,17 +56,17 @@ DiagnosticsReport diagnosticsReport(const DiagnosticsInput& in) {
   add("spheres", std::to_string(in.spheres));
   add("grasps", std::to_string(in.grasps));
   add("paused", in.paused ? "yes" : "no");
+  auto warn = [&r](const std::string& what) {  // as DiagnosticStatusWrapper::mergeSummary(WARN)
+    r.message = r.level != Health::kOk && !r.message.empty() ? r.message + "; " + what : what;
+    r.level = std::max(r.level, Health::kWarn);
+  };
+  if (in.tolerance_unreachable) {
+    warn("the error tolerance needs more substeps than the maximum or the frame budget allow");
+  }
   if (!in.stale_grasp_frames.empty()) {
     std::string frames;
     for (const std::string& f : in.stale_grasp_frames) frames += (frames.empty() ? "" : ", ") + f;
-    const std::string stale = "grasp frame stopped updating, held at its last pose: " + frames;
-    // Merged as DiagnosticStatusWrapper::mergeSummary(WARN, ...) would.
-    if (r.level != Health::kOk) {
-      r.message += (r.message.empty() ? "" : "; ") + stale;
-    } else {
-      r.message = stale;
-    }
-    r.level = std::max(r.level, Health::kWarn);
+    warn("grasp frame stopped updating, held at its last pose: " + frames);
     add("stale grasp frames", frames);
   }
   return r;

@@ -1,5 +1,6 @@
 #include "cloth_sim/node/grasp_frames.h"
 
+#include <cstdlib>
 #include <stdexcept>
 
 #include <tf2/exceptions.h>
@@ -8,6 +9,32 @@
 #include "cloth_sim/node/frame_resolver.h"
 
 namespace cloth_sim::node {
+
+FrameSample sampleFrame(const tf2::BufferCore& buffer, const std::string& target,
+                        const std::string& frame, const ros::Time& stamp) {
+  FrameSample out;
+  try {
+    out.transform = buffer.lookupTransform(target, frame, stamp);
+    return out;
+  } catch (const tf2::ExtrapolationException& e) {
+    // tf2 says which end it fell off ("... into the past. Requested time T but the earliest
+    // data is at time T0"): before the oldest sample, hold the oldest, never a later pose.
+    const std::string what = e.what();
+    const std::string marker = "earliest data is at time ";
+    const std::size_t at = what.find(marker);
+    if (what.find("into the past") != std::string::npos && at != std::string::npos) {
+      const double oldest = std::strtod(what.c_str() + at + marker.size(), nullptr);
+      if (oldest > 0.0) {
+        out.transform = buffer.lookupTransform(target, frame, ros::Time(oldest));
+        out.before_buffer = true;
+        return out;
+      }
+    }
+  }
+  out.transform = buffer.lookupTransform(target, frame, ros::Time(0));  // the newest
+  out.after_buffer = true;
+  return out;
+}
 
 GraspFrames::GraspFrames(const tf2::BufferCore& buffer, std::string sim_frame, double timeout)
     : buffer_(buffer), sim_frame_(std::move(sim_frame)), timeout_(timeout) {}
@@ -23,11 +50,7 @@ Pose GraspFrames::lookup(const std::string& frame, const Vec3& offset,
   }
   geometry_msgs::TransformStamped t;
   try {
-    try {
-      t = buffer_.lookupTransform(sim_frame_, frame, stamp);
-    } catch (const tf2::ExtrapolationException&) {
-      t = buffer_.lookupTransform(sim_frame_, frame, ros::Time(0));
-    }
+    t = sampleFrame(buffer_, sim_frame_, frame, stamp).transform;
   } catch (const tf2::TransformException& e) {
     throw std::invalid_argument("frame_id " + quotedName(frame) + " cannot be transformed into '" +
                                 sim_frame_ + "': " + e.what());
@@ -35,8 +58,11 @@ Pose GraspFrames::lookup(const std::string& frame, const Vec3& offset,
   return Pose(tf2::transformToEigen(t)) * Eigen::Translation3d(offset);
 }
 
-void GraspFrames::add(int id, const std::string& frame, const Vec3& offset, const Pose& pose) {
-  grasps_[id] = Tracked{frame, offset, pose, false};
+void GraspFrames::add(int id, const std::string& frame, const Vec3& offset, const Pose& pose,
+                      bool seen) {
+  Tracked t{frame, offset, pose, false};
+  t.seen = seen;
+  grasps_[id] = t;
 }
 
 void GraspFrames::remove(int id) { grasps_.erase(id); }
@@ -46,17 +72,13 @@ Pose GraspFrames::poseAt(int id, const ros::Time& stamp) {
   if (it == grasps_.end()) return Pose::Identity();
   Tracked& g = it->second;
   try {
-    try {
-      g.last_pose = Pose(tf2::transformToEigen(buffer_.lookupTransform(sim_frame_, g.frame, stamp))) *
-                    Eigen::Translation3d(g.offset);
-      g.stale = false;
-    } catch (const tf2::ExtrapolationException&) {
-      // Nothing that recent: hold the latest transform, stale once it is too old.
-      const geometry_msgs::TransformStamped latest =
-          buffer_.lookupTransform(sim_frame_, g.frame, ros::Time(0));
-      g.last_pose = Pose(tf2::transformToEigen(latest)) * Eigen::Translation3d(g.offset);
-      g.stale = !latest.header.stamp.isZero() && (stamp - latest.header.stamp).toSec() > timeout_;
-    }
+    const FrameSample sample = sampleFrame(buffer_, sim_frame_, g.frame, stamp);
+    g.last_pose = Pose(tf2::transformToEigen(sample.transform)) * Eigen::Translation3d(g.offset);
+    g.before_buffer = sample.before_buffer;
+    g.seen = true;
+    // Held past the newest transform: stale once that is too old.
+    g.stale = sample.after_buffer && !sample.transform.header.stamp.isZero() &&
+              (stamp - sample.transform.header.stamp).toSec() > timeout_;
   } catch (const tf2::TransformException&) {
     g.stale = true;  // the frame is gone: keep its last pose
   }

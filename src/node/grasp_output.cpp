@@ -6,11 +6,13 @@
 
 namespace cloth_sim::node {
 
-geometry_msgs::Wrench wrenchInGraspFrame(const Grasp& grasp) {
+geometry_msgs::Wrench wrenchInGraspFrame(const Grasp& grasp, const Vec3& offset) {
   const Eigen::Matrix3d to_grasp = grasp.pose.linear().transpose();
+  const Vec3 force = to_grasp * grasp.wrench.force;
   geometry_msgs::Wrench w;
-  w.force = toVector3Msg(to_grasp * grasp.wrench.force);
-  w.torque = toVector3Msg(to_grasp * grasp.wrench.torque);
+  w.force = toVector3Msg(force);
+  // About the frame's origin: sum (x_i - o) x F_i = torque about o + offset, plus offset x F.
+  w.torque = toVector3Msg(to_grasp * grasp.wrench.torque + offset.cross(force));
   return w;
 }
 
@@ -21,7 +23,7 @@ GraspInfo toGraspInfo(const Grasp& grasp, const GraspFrames::Tracked& tracked) {
   info.offset = toVector3Msg(tracked.offset);
   info.vertices = grasp.vertices;
   info.pose = tf2::toMsg(Eigen::Isometry3d(grasp.pose));
-  info.wrench = wrenchInGraspFrame(grasp);
+  info.wrench = wrenchInGraspFrame(grasp, tracked.offset);
   info.frame_stale = tracked.stale;
   return info;
 }

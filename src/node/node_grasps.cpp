@@ -81,9 +81,9 @@ void ClothSimNode::publishWrenches(const ros::Time& stamp) {
     if (pub == wrench_pubs_.end() || tracked == nullptr) continue;
     geometry_msgs::WrenchStamped w;
     w.header.stamp = stamp;
-    // The grasp frame is the tf frame moved by the offset; with no offset it is that frame.
+    // In the tf frame's axes, the torque about its origin (the ROS reading of the header).
     w.header.frame_id = tracked->frame;
-    w.wrench = wrenchInGraspFrame(g);
+    w.wrench = wrenchInGraspFrame(g, tracked->offset);
     pub->second.publish(w);
   }
 }

@@ -25,6 +25,12 @@ constexpr Setting kSubstepsOverride{
     "substeps", "substeps", Range::closed(0, settings::kSubsteps.range.max), true, "",
     "(0 = the scene's)", "replaces the scene's substeps per frame when > 0", 0};
 
+/// ~robot_margin and ~robot_friction: a body collider's rules under the parameters' names.
+constexpr Setting kRobotMargin{"robot_margin", "robot_margin", settings::kBodyMargin.range, false,
+                               "m", "", "distance the cloth keeps from the robot's links", 0};
+constexpr Setting kRobotFriction{"robot_friction", "robot_friction", settings::kFriction.range,
+                                 false, "", "", "Coulomb friction of the robot's links", 0};
+
 /// Whether ~scene is the bare name of a shipped scene: no '/' and no ".yaml".
 bool isSceneName(const std::string& scene) {
   return scene.find('/') == std::string::npos &&
@@ -68,6 +74,29 @@ class ParamReader {
     if (XmlRpc::XmlRpcValue* v = find(key)) {
       expect(key, *v, XmlRpc::XmlRpcValue::TypeInt, "an integer");
       out = static_cast<int&>(*v);
+    }
+  }
+  /// A list of strings, or one string of names separated by spaces or commas.
+  void get(const std::string& key, std::vector<std::string>& out) {
+    XmlRpc::XmlRpcValue* v = find(key);
+    if (v == nullptr) return;
+    out.clear();
+    if (v->getType() == XmlRpc::XmlRpcValue::TypeString) {
+      std::string word;
+      for (char c : static_cast<std::string&>(*v) + " ") {
+        if (c == ' ' || c == ',') {
+          if (!word.empty()) out.push_back(word);
+          word.clear();
+        } else {
+          word += c;
+        }
+      }
+      return;
+    }
+    expect(key, *v, XmlRpc::XmlRpcValue::TypeArray, "a list of names");
+    for (int k = 0; k < v->size(); ++k) {
+      expect(key, (*v)[k], XmlRpc::XmlRpcValue::TypeString, "a list of names");
+      out.push_back(static_cast<std::string&>((*v)[k]));
     }
   }
   void get(const std::string& key, bool& out) {
@@ -114,6 +143,11 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
     read.get("threads", threads);
     o.threads = threads;
   }
+  if (private_params.valid() && private_params.hasMember("error_tolerance")) {
+    double tolerance = 0.0;
+    read.get("error_tolerance", tolerance);
+    o.error_tolerance = tolerance;
+  }
   if (private_params.valid() && private_params.hasMember("self_collision")) {
     bool on = false;
     read.get("self_collision", on);
@@ -133,6 +167,11 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
   read.get("grasp_frame_timeout", o.grasp_frame_timeout);
   read.get("force_arrow_scale", o.force_arrow_scale);
   read.get("marker_bandwidth", o.marker_bandwidth);
+  read.get("tf_buffer_duration", o.tf_buffer_duration);
+  read.get("robot_description", o.robot_description);
+  read.get("robot_links", o.robot_links);
+  read.get("robot_margin", o.robot_margin);
+  read.get("robot_friction", o.robot_friction);
   validateNodeOptions(o);
   return o;
 }
@@ -165,6 +204,7 @@ void validateNodeOptions(const NodeOptions& o) {
        {std::pair<double, const Setting*>{o.render_rate, &settings::kRenderRate},
         {static_cast<double>(o.iterations), &kIterationsOverride},
         {static_cast<double>(o.substeps), &kSubstepsOverride},
+        {o.error_tolerance.value_or(0.0), &settings::kErrorTolerance},
         {static_cast<double>(o.max_rollbacks), &settings::kMaxRollbacks},
         {o.strain_color_scale, &settings::kStrainColorScale},
         {o.sphere_cull_distance, &settings::kSphereCullDistance},
@@ -174,7 +214,10 @@ void validateNodeOptions(const NodeOptions& o) {
         {o.budget_ms, &settings::kFrameBudget},
         {o.grasp_frame_timeout, &settings::kGraspFrameTimeout},
         {o.force_arrow_scale, &settings::kForceArrowScale},
-        {o.marker_bandwidth, &settings::kMarkerBandwidth}}) {
+        {o.marker_bandwidth, &settings::kMarkerBandwidth},
+        {o.tf_buffer_duration, &settings::kTfBufferDuration},
+        {o.robot_margin, &kRobotMargin},
+        {o.robot_friction, &kRobotFriction}}) {
     setting->require(value, "parameter '~" + std::string(setting->param) + "':");
   }
 }
@@ -212,6 +255,7 @@ SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir) 
   if (!options.solver.empty()) overrides.solver = options.solver;
   if (options.iterations > 0) overrides.iterations = options.iterations;
   if (options.substeps > 0) overrides.substeps = options.substeps;
+  overrides.error_tolerance = options.error_tolerance;
   overrides.self_collision = options.self_collision;
   overrides.threads = options.threads;
   return applyOverrides(std::move(scene), overrides);

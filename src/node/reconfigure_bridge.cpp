@@ -52,6 +52,7 @@ ClothSimConfig ReconfigureBridge::current() const {
   c.solver = sim_.solver().name();
   c.iterations = sim_.solverSettings().max_iterations;
   c.substeps = sim_.solverSettings().substeps;
+  c.error_tolerance = sim_.solverSettings().error_tolerance;
   c.budget_ms = budget_ ? 1e3 * budget_->budget() : 0.0;
   c.self_collision = sim_.selfContact() != nullptr;
   c.color_mode = colorModeName(color_mode_);
@@ -85,6 +86,14 @@ std::vector<FieldOutcome> ReconfigureBridge::apply(ClothSimConfig& config) {
              solverSetting(&SolverSettings::max_iterations), out);
   applyField("substeps", &ClothSimConfig::substeps, config, was,
              solverSetting(&SolverSettings::substeps), out);
+  applyField(
+      "error_tolerance", &ClothSimConfig::error_tolerance, config, was,
+      [&](double tolerance) {
+        SolverSettings settings = sim_.solverSettings();
+        settings.error_tolerance = tolerance;
+        sim_.setSolverSettings(settings);  // validates (substeps 0 needs a tolerance)
+      },
+      out);
   applyField(
       "budget_ms", &ClothSimConfig::budget_ms, config, was,
       [&](double ms) { budget_ = frameBudgetFor(ms); }, out);

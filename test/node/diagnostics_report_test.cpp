@@ -43,6 +43,8 @@ TEST(DiagnosticsReport, AHealthyWindowIsOkWithEveryValueInOrder) {
                               "substeps per frame",
                               "frame budget (ms)",
                               "iterations per substep",
+                              "error tolerance (m)",
+                              "error estimate (m)",
                               "step budget (ms)",
                               "mean step time (ms)",
                               "max step time (ms)",
@@ -90,6 +92,20 @@ TEST(DiagnosticsReport, TheLevelAndMessageAreTheMonitorsAssessment) {
   EXPECT_EQ(diagnosticsReport(in).level, Health::kWarn);  // no step: stalled (or paused)
   EXPECT_EQ(valueOf(diagnosticsReport(in), "paused"), "yes");
   EXPECT_EQ(valueOf(diagnosticsReport(in), "frame budget (ms)"), "2.500");
+}
+
+TEST(DiagnosticsReport, AToleranceOutOfReachWarnsAndSaysSo) {
+  DiagnosticsInput in = healthy();
+  in.error_tolerance = 1e-5;
+  in.error_estimate = 4e-5;
+  in.tolerance_unreachable = true;
+  const DiagnosticsReport r = diagnosticsReport(in);
+  EXPECT_EQ(r.level, Health::kWarn);
+  EXPECT_NE(r.message.find("error tolerance needs more substeps"), std::string::npos) << r.message;
+  EXPECT_EQ(valueOf(r, "error tolerance (m)"), "1e-05");
+  EXPECT_EQ(valueOf(r, "error estimate (m)"), "4e-05");
+  in.tolerance_unreachable = false;
+  EXPECT_EQ(diagnosticsReport(in).level, Health::kOk);
 }
 
 TEST(DiagnosticsReport, AStaleGraspFrameWarnsAndIsMergedIntoTheSummary) {

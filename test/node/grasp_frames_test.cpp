@@ -51,6 +51,23 @@ TEST_F(GraspFramesTest, AFrameThatStopsHoldsItsLastPoseAndTurnsStale) {
   EXPECT_FALSE(frames_.find(0)->stale);
 }
 
+TEST_F(GraspFramesTest, BeforeTheBufferTheOldestPoseIsHeldNeverALaterOne) {
+  // A 12 s trajectory published at once into a 10 s buffer: its first 2 s are dropped. Asked
+  // at 1 s, the frame must not jump to the newest pose (12 m away) but hold the oldest kept.
+  for (int k = 0; k <= 120; ++k) buffer_.setTransform(gripperAt(Vec3(0.1 * k, 0, 1), 1.0 + 0.1 * k), "test");
+  frames_.add(0, "gripper", Vec3::Zero(), Pose::Identity());
+  const Pose early = frames_.poseAt(0, ros::Time(2.0));
+  EXPECT_GE(early.translation().x(), 1.95);  // the oldest kept: about 3 s, x = 2 m
+  EXPECT_LE(early.translation().x(), 2.15);
+  EXPECT_TRUE(frames_.find(0)->before_buffer);
+  EXPECT_FALSE(frames_.find(0)->stale);
+  EXPECT_NEAR(frames_.poseAt(0, ros::Time(5.05)).translation().x(), 4.05, 1e-9);  // covered
+  EXPECT_FALSE(frames_.find(0)->before_buffer);
+  const FrameSample late = sampleFrame(buffer_, "world", "gripper", ros::Time(20.0));
+  EXPECT_TRUE(late.after_buffer);
+  EXPECT_NEAR(late.transform.transform.translation.x, 12.0, 1e-9);
+}
+
 TEST_F(GraspFramesTest, RefusesUnknownFramesAndBadOffsets) {
   EXPECT_EQ(test::errorOf([&] { frames_.lookup("nowhere", Vec3::Zero(), ros::Time(1)); }),
             "frame_id 'nowhere' is unknown to tf2 (no transform into 'world' has been published)");
@@ -73,6 +90,15 @@ TEST(SimClock, StampsGoOnAcrossAReset) {
   clock.anchor(ros::Time(200, 0), 0.5);  // following the ROS time: the frame ends now
   EXPECT_EQ(clock.stamp(0.5), ros::Time(200, 0));
   EXPECT_EQ(clock.stamp(0.25), ros::Time(199, 750000000));
+}
+
+TEST(SimClock, AJumpInSimulatedTimeNeverTakesTheStampsBack) {
+  SimClock clock(ros::Time(1, 0));
+  clock.jump(5.0, 2.0);  // a snapshot of t = 2 s restored at t = 5 s: stamps go on from 6 s
+  EXPECT_EQ(clock.stamp(2.0), ros::Time(6, 0));
+  clock.jump(2.0, 100.0);  // set to t = 100 s: later than the stamp reached, so forward to it
+  EXPECT_EQ(clock.stamp(100.0), ros::Time(100, 0));
+  EXPECT_GE(clock.stamp(100.0), ros::Time(6, 0));
 }
 
 TEST(StateDigest, EqualForEqualStatesAndChangesWithOneBit) {

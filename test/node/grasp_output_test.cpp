@@ -21,13 +21,24 @@ Grasp turnedGrasp() {
 }
 
 TEST(GraspOutput, WrenchIsRotatedIntoTheGraspFrame) {
-  const geometry_msgs::Wrench w = wrenchInGraspFrame(turnedGrasp());
+  const geometry_msgs::Wrench w = wrenchInGraspFrame(turnedGrasp(), Vec3::Zero());
   // The frame is turned +90 deg about z, so world -y is the frame's -x: R^T (0, -2, z) = (-2, 0, z).
   EXPECT_NEAR(w.force.x, -2.0, 1e-12);
   EXPECT_NEAR(w.force.y, 0.0, 1e-12);
   EXPECT_NEAR(w.force.z, -9.81, 1e-12);
   EXPECT_NEAR(w.torque.x, 0.0, 1e-12);
   EXPECT_NEAR(w.torque.y, -1.0, 1e-12);
+}
+
+TEST(GraspOutput, TorqueIsAboutTheTfFrameOriginNotTheOffsetPoint) {
+  // Held 0.1 m along the frame's x from its origin, a pure downward pull F about the grasp
+  // point is a torque offset x F about the frame's origin: (0.1, 0, 0) x (0, 0, -9.81).
+  Grasp g;
+  g.wrench.force = Vec3(0, 0, -9.81);
+  const geometry_msgs::Wrench w = wrenchInGraspFrame(g, Vec3(0.1, 0, 0));
+  EXPECT_NEAR(w.torque.x, 0.0, 1e-12);
+  EXPECT_NEAR(w.torque.y, 0.981, 1e-12);
+  EXPECT_NEAR(w.torque.z, 0.0, 1e-12);
 }
 
 TEST(GraspOutput, InfoCarriesFrameOffsetVerticesPoseAndStaleness) {

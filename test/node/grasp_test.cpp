@@ -4,7 +4,6 @@
 // stepping, so nothing depends on wall-clock speed.
 #include <cmath>
 #include <cstdio>
-#include <mutex>
 
 #include <gtest/gtest.h>
 #include <geometry_msgs/WrenchStamped.h>
@@ -12,14 +11,13 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <std_srvs/Trigger.h>
-#include <tf2_msgs/TFMessage.h>
 
 #include <cloth_sim/AddGrasp.h>
 #include <cloth_sim/ReleaseGrasp.h>
 #include <cloth_sim/RemovePin.h>
 #include <cloth_sim/Step.h>
 
-#include "ros_test_util.h"
+#include "robot_util.h"
 
 namespace cloth_sim::test {
 namespace {
@@ -47,16 +45,6 @@ NodeProbe& probe() {
   return p;
 }
 
-void wallSleep(double s) { ros::WallDuration(s).sleep(); }
-
-Step::Response step(std::uint32_t frames) {
-  Step::Request req;
-  req.frames = frames;
-  const Step::Response res = call<Step>(names::kStep, req);
-  EXPECT_TRUE(res.success) << res.message;
-  return res;
-}
-
 /// The latest stamp published for "gripper": tf2 keeps every sample across a reset and ignores
 /// a second one at the same stamp, so the stamps of a run after a reset must be new ones.
 ros::Time& lastPublished() {
@@ -74,64 +62,15 @@ void reset() {
 }
 
 /// Publishes frame "gripper" in "world" at every substep stamp of [t0, t1] (simulated s after
-/// @p origin), at pose(t): tf2 then interpolates exactly at the node's substep times.
+/// @p origin), at position(t): tf2 then interpolates exactly at the node's substep times.
 void publishGripper(const ros::Time& origin, double t0, double t1,
                     const std::function<Vec3(double)>& position) {
-  static ros::Publisher pub = ros::NodeHandle().advertise<tf2_msgs::TFMessage>("/tf", 10);
-  ASSERT_TRUE(waitForSubscriber(pub));
-  tf2_msgs::TFMessage msg;
-  for (int k = static_cast<int>(std::floor(t0 / kSubstep)); k * kSubstep <= t1 + 1e-9; ++k) {
-    const double t = k * kSubstep;
-    geometry_msgs::TransformStamped tf;
-    tf.header.frame_id = "world";
-    tf.header.stamp = origin + ros::Duration(t);
-    tf.child_frame_id = "gripper";
-    const Vec3 p = position(t);
-    tf.transform.translation.x = p.x();
-    tf.transform.translation.y = p.y();
-    tf.transform.translation.z = p.z();
-    tf.transform.rotation.w = 1.0;
-    msg.transforms.push_back(tf);
-    lastPublished() = std::max(lastPublished(), tf.header.stamp);
-  }
-  pub.publish(msg);
-  wallSleep(0.5);  // into the node's tf2 buffer before it steps
+  const Trajectory pose = [&](double t) {
+    return Eigen::Isometry3d(Eigen::Translation3d(position(t)));
+  };
+  publishAhead(origin, t0, t1, kSubstep, {{"gripper", pose}});
+  lastPublished() = std::max(lastPublished(), origin + ros::Duration(t1));  // at or after the last
 }
-
-/// Keeps every message of one topic.
-template <class M>
-class Collector {
- public:
-  explicit Collector(const std::string& topic)
-      : sub_(ros::NodeHandle().subscribe<M>(
-            topic, 1000,
-            boost::function<void(const boost::shared_ptr<const M>&)>(
-                [this](const boost::shared_ptr<const M>& m) {
-                  std::lock_guard<std::mutex> lock(mutex_);
-                  all_.push_back(*m);
-                  if (all_.size() > 4000) all_.erase(all_.begin(), all_.begin() + 1000);
-                }))) {}
-  std::vector<M> all() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return all_;
-  }
-  /// The first message satisfying @p pred, within @p timeout wall s.
-  std::optional<M> waitFor(const std::function<bool(const M&)>& pred, double timeout = 10.0) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
-    while (ros::WallTime::now() < end) {
-      for (const M& m : all()) {
-        if (pred(m)) return m;
-      }
-      wallSleep(0.02);
-    }
-    return std::nullopt;
-  }
-
- private:
-  std::mutex mutex_;
-  std::vector<M> all_;
-  ros::Subscriber sub_;
-};
 
 std::vector<int> topRow() {
   std::vector<int> v;
@@ -248,6 +187,50 @@ TEST(Grasp, HangingAtRestTheWrenchIsTheClothsWeight) {
   double pins_z = 0.0;
   for (const PinInfo& p : s.pins) pins_z += p.force.z;
   EXPECT_NEAR(pins_z, f.z(), 1e-12);
+}
+
+TEST(Grasp, TheWrenchTorqueIsAboutTheOriginOfTheFrameItsHeaderNames) {
+  // The gripper frame 0.1 m to the left of the top row's middle, the grasp point (its origin +
+  // offset) on it: the hanging sheet pulls W down 0.1 m along the frame's x, a torque of
+  // (0.1, 0, 0) x (0, 0, -W) = (0, 0.1 W, 0) about the frame's origin (about the grasp point,
+  // what the wrench gave before, it is about 0).
+  reset();
+  const ros::Time origin = step(0).stamp;
+  const Vec3 frame_origin(-0.1, 0.0, kTop);
+  publishGripper(origin, 0.0, 9.0, [&](double) { return frame_origin; });
+  AddGrasp::Request req;
+  req.frame_id = "gripper";
+  req.vertices = topRow();
+  req.offset.x = 0.1;
+  const AddGrasp::Response g = call<AddGrasp>(names::kGrasp, req);
+  ASSERT_TRUE(g.success) << g.message;
+  step(300);  // at rest
+  Collector<geometry_msgs::WrenchStamped> w(names::graspWrench(g.id));
+  wallSleep(0.5);
+  const Step::Response r = step(1);
+  const auto got =
+      w.waitFor([&](const geometry_msgs::WrenchStamped& m) { return m.header.stamp == r.stamp; });
+  ASSERT_TRUE(got.has_value());
+  EXPECT_EQ(got->header.frame_id, "gripper");
+  // The same torque from the pins themselves: sum of (x_i - origin) x F_i (the frame is not
+  // turned, so its axes are the world's).
+  const ClothState s = stateAt(r.stamp);
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
+  for (const PinInfo& p : s.pins) {
+    if (p.grasp != g.id) continue;
+    force += toVec3(p.force);
+    torque += (toVec3(p.position) - frame_origin).cross(toVec3(p.force));
+  }
+  const Vec3 reported = toVec3(got->wrench.torque);
+  std::printf("[measured] grasp 0.1 m off its frame's origin: torque (%.5f, %.5f, %.5f) N m, "
+              "from the pins (%.5f, %.5f, %.5f), 0.1 W = %.5f\n", reported.x(), reported.y(),
+              reported.z(), torque.x(), torque.y(), torque.z(), 0.1 * weight());
+  EXPECT_LT((reported - torque).norm(), 1e-9 * weight());
+  // At rest |F - W| < 1e-3 W and the torque about the grasp point < 2e-4 W m (the test above).
+  EXPECT_NEAR(reported.y(), 0.1 * weight(), 3e-4 * weight());
+  EXPECT_LT((toVec3(got->wrench.force) - force).norm(), 1e-9 * weight());
+  ASSERT_EQ(s.grasps.size(), 1u);
+  EXPECT_LT((toVec3(s.grasps[0].wrench.torque) - reported).norm(), 1e-12);  // cloth/state: the same
 }
 
 TEST(Grasp, LiftedAtConstantAccelerationTheWrenchIsMassTimesGPlusA) {
@@ -424,7 +407,7 @@ TEST_F(BadInput, TooManyFrames) {
     Step::Request req;
     req.frames = 4000000000u;
     return call<Step>(names::kStep, req);
-  }, "frames 4000000000 must be <= 6000000");
+  }, "frames 4000000000 must be <= 10000 per call (longer runs: the action cloth/step_frames)");
 }
 
 }  // namespace

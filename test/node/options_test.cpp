@@ -111,6 +111,39 @@ TEST(NodeOptions, SimulatedTimeAndGraspParameters) {
   }
 }
 
+TEST(NodeOptions, RobotAndTfBufferParameters) {
+  const NodeOptions defaults = parseNodeOptions(params());
+  EXPECT_EQ(defaults.tf_buffer_duration, 120.0);
+  EXPECT_TRUE(defaults.robot_links.empty());
+  XmlRpc::XmlRpcValue p = params();
+  p["tf_buffer_duration"] = 30;
+  p["robot_links"] = "finger_upper, finger_lower  palm";
+  p["robot_margin"] = 0.002;
+  p["robot_friction"] = 1.5;
+  const NodeOptions o = parseNodeOptions(p);
+  EXPECT_EQ(o.tf_buffer_duration, 30.0);
+  EXPECT_EQ(o.robot_links, (std::vector<std::string>{"finger_upper", "finger_lower", "palm"}));
+  EXPECT_EQ(o.robot_margin, 0.002);
+  EXPECT_EQ(o.robot_friction, 1.5);
+  XmlRpc::XmlRpcValue list;
+  list[0] = "a";
+  list[1] = "b";
+  p["robot_links"] = list;
+  EXPECT_EQ(parseNodeOptions(p).robot_links, (std::vector<std::string>{"a", "b"}));
+  list[1] = 3;
+  p["robot_links"] = list;
+  EXPECT_EQ(parseError(p), "parameter '~robot_links': expected a list of names, got an integer");
+  p = params();
+  p["tf_buffer_duration"] = 0.5;
+  EXPECT_EQ(parseError(p), "parameter '~tf_buffer_duration': 0.5 must be in [1, 3600] s");
+  p = params();
+  p["robot_margin"] = 0.0;
+  EXPECT_EQ(parseError(p), "parameter '~robot_margin': 0 must be in (0, 1] m");
+  p = params();
+  p["robot_friction"] = -1;
+  EXPECT_EQ(parseError(p), "parameter '~robot_friction': -1 must be in [0, 100]");
+}
+
 TEST(NodeOptions, AMissingSceneIsRefusedNamingTheParameter) {
   const std::string e = parseError(XmlRpc::XmlRpcValue());  // empty private namespace
   EXPECT_NE(e.find("parameter '~scene'"), std::string::npos) << e;

@@ -121,7 +121,9 @@ TEST(ReconfigureBridge, ARefusedFieldIsPutBackWithTheCoresReasonAndTheOthersStil
       {"color_mode", [](ClothSimConfig& c) { c.color_mode = "red"; },
        "color mode 'red' must be 'strain' or 'shaded'"},
       {"iterations", [](ClothSimConfig& c) { c.iterations = 0; }, "solver.iterations 0 must be in [1, 100000]"},
-      {"substeps", [](ClothSimConfig& c) { c.substeps = -3; }, "solver.substeps -3 must be in [1, 1000]"},
+      {"substeps", [](ClothSimConfig& c) { c.substeps = -3; }, "solver.substeps -3 must be in [0, 1000]"},
+      {"error_tolerance", [](ClothSimConfig& c) { c.error_tolerance = -1.0; },
+       "solver.error_tolerance -1 must be in [0, 1] m"},
       {"budget_ms", [](ClothSimConfig& c) { c.budget_ms = 2000.0; }, "budget_ms 2000 must be in [0, 1000] ms"},
       {"budget_ms", [](ClothSimConfig& c) { c.budget_ms = kNaN; }, "budget_ms nan must be in [0, 1000] ms"},
   };

@@ -42,6 +42,7 @@ double coreDefault(const std::string& param) {
   if (param == "damping") return scene.damping;
   if (param == "iterations") return SolverSettings{}.max_iterations;
   if (param == "substeps") return SolverSettings{}.substeps;
+  if (param == "error_tolerance") return SolverSettings{}.error_tolerance;
   if (param == "budget_ms") return node::NodeOptions{}.budget_ms;  // a node option: off
   ADD_FAILURE() << "no core default known for " << param;
   return 0.0;
@@ -64,7 +65,7 @@ TEST(ReconfigureCfg, NumericParametersMatchTheSettingsTable) {
     EXPECT_EQ(numberIn(d, ClothSimConfig::__getMax__()), max);
     EXPECT_EQ(numberIn(d, ClothSimConfig::__getDefault__()), coreDefault(d->name));
   }
-  EXPECT_EQ(numeric, 7);
+  EXPECT_EQ(numeric, 8);
 }
 
 TEST(ReconfigureCfg, SelfCollisionSwitchIsOffAsInAScene) {

@@ -30,6 +30,8 @@ struct Trajectory {
   std::vector<double> frame_cpu_ms; ///< CPU time of every frame (this thread)
   int rollbacks = 0;                ///< steps the simulation rolled back
   bool stopped = false;             ///< slower than max_frame_ms: not run to the end
+  double substeps_sum = 0.0;        ///< substeps of all frames (their mean: the cost)
+  double estimate_sum = 0.0;        ///< m, the frames' error estimates, summed
 };
 
 /// One configuration of the sweep.
@@ -40,6 +42,7 @@ struct Config {
   double tolerance = 0.0;
   Integrator integrator = Integrator::kImplicitEuler;
   bool warm = false;  ///< SolverSettings::warm_start
+  double error_tolerance = 0.0;  ///< m per frame; > 0: substeps 0 (chosen by the estimate)
   /// The solver column: "local_global", "local_global/bdf2", "anderson+warm/bdf2".
   std::string name() const {
     const std::string base = warm ? solver + "+warm" : solver;
@@ -47,6 +50,11 @@ struct Config {
                                                     : base + "/" + integratorName(integrator);
   }
   std::string label() const {
+    if (error_tolerance > 0.0) {
+      char text[32];
+      std::snprintf(text, sizeof text, " e%g", error_tolerance);
+      return name() + text;
+    }
     return name() + " s" + std::to_string(substeps) + " i" +
            (tolerance > 0.0 ? std::string("conv") : std::to_string(iterations));
   }
@@ -84,13 +92,18 @@ Trajectory run(SceneConfig scene, const Config& config, const std::vector<int>& 
   overrides.tolerance = config.tolerance;
   overrides.integrator = config.integrator;
   overrides.warm_start = config.warm;
+  overrides.error_tolerance = config.error_tolerance;
+  if (config.error_tolerance > 0.0) overrides.substeps = 0;
   Simulation sim = makeSimulation(applyOverrides(std::move(scene), overrides));
   Trajectory t;
   std::size_t next = 0;
   for (int f = 1; next < sample_frames.size(); ++f) {
     const double start = now(), cpu_start = threadCpuNow();
     for (int s = 0; s < steps_per_frame; ++s) {
-      if (sim.step().status != StepStatus::kOk) ++t.rollbacks;
+        const StepReport report = sim.step();
+      if (report.status != StepStatus::kOk) ++t.rollbacks;
+      t.substeps_sum += report.substeps;
+      t.estimate_sum += report.error_estimate;
     }
     t.frame_ms.push_back(1e3 * (now() - start));
     t.frame_cpu_ms.push_back(1e3 * (threadCpuNow() - cpu_start));
@@ -247,6 +260,14 @@ std::vector<Config> configsFor(const AccuracyOptions& o, int grid) {
         for (int i : o.iterations) configs.push_back({solver, s, i, 0.0, integrator, warm});
       }
     }
+    for (const std::string& solver : o.error_control_solvers) {
+      if (!solverEntry(solver).capabilities.supports(integrator)) continue;
+      for (double tol : o.error_tolerances) {
+        Config c{solver, 0, 100, 0.0, integrator};
+        c.error_tolerance = tol;
+        configs.push_back(c);
+      }
+    }
     if (grid <= o.newton_max_grid) {
       for (int s : o.substeps) configs.push_back({"newton", s, 100, 1e-10, integrator});
     }
@@ -278,17 +299,20 @@ void runAccuracy(const AccuracyOptions& o) {
   for (const std::string& name : o.integrators) integratorFromName(name);  // fail before running
   csv << "case,solver,substeps,iterations,time,rms_error,max_error,com_error,energy_ratio,mean_strain,"
          "max_strain,ref_mean_strain,ref_max_strain,frame_ms_median,frame_ms_p10,frame_ms_p90,"
-         "rollbacks,status,cpu_ms_median,cpu_ms_p10,cpu_ms_p90\n";
+         "rollbacks,status,cpu_ms_median,cpu_ms_p10,cpu_ms_p90,error_tolerance,mean_substeps,"
+         "estimate_sum\n";
   std::ofstream ref_csv(o.out_dir + "/accuracy_reference.csv");
   ref_csv << "case,particles,diagonal,reference,h_ref,time,floor_rms,floor_max,floor_com,energy,"
              "mean_strain,max_strain\n";
 
   for (const std::string& scene_name : o.scenes) {
-    const std::string file = o.scenes_dir + "/" + scene_name + ".yaml";
+    const bool shipped = std::filesystem::exists(o.scenes_dir + "/" + scene_name + ".yaml");
+    const std::string dir = shipped || o.untuned_dir.empty() ? o.scenes_dir : o.untuned_dir;
+    const std::string file = dir + "/" + scene_name + ".yaml";
     const bool mesh = loadSceneFile(file).cloth_kind == SceneConfig::ClothKind::kMesh;
     for (int grid : mesh ? std::vector<int>{0} : o.grids) {
       BenchCase c = mesh ? BenchCase{scene_name + "-mesh", scene_name, 0, false, loadSceneFile(file)}
-                         : makeCase(o.scenes_dir, scene_name, grid);
+                         : makeCase(dir, scene_name, grid);
       const double frame = c.config.time_step;
       std::vector<int> frames;
       for (double t : o.times) frames.push_back(static_cast<int>(std::lround(t / frame)));
@@ -339,7 +363,10 @@ void runAccuracy(const AccuracyOptions& o) {
               << ref[k].mean_strain << ',' << ref[k].max_strain << ',' << median(t.frame_ms)
               << ',' << quantile(t.frame_ms, 0.1) << ',' << quantile(t.frame_ms, 0.9) << ','
               << t.rollbacks << ',' << status << ',' << median(t.frame_cpu_ms) << ','
-              << quantile(t.frame_cpu_ms, 0.1) << ',' << quantile(t.frame_cpu_ms, 0.9) << '\n';
+              << quantile(t.frame_cpu_ms, 0.1) << ',' << quantile(t.frame_cpu_ms, 0.9) << ','
+              << cfg.error_tolerance << ','
+              << t.substeps_sum / std::max<std::size_t>(1, t.frame_ms.size()) << ','
+              << t.estimate_sum << '\n';
         }
         if (t.samples.empty()) {
           csv << c.name << ',' << cfg.name() << ',' << cfg.substeps << ',' << cfg.iterations

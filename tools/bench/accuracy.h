@@ -13,6 +13,9 @@ namespace cloth_sim::bench {
 
 struct AccuracyOptions {
   std::string scenes_dir;  ///< config/scenes
+  /// bench/scenes: scenes written as a user would, with no solver block (nobody tuned them);
+  /// a scene name is looked up in scenes_dir, then here.
+  std::string untuned_dir;
   std::string out_dir;     ///< accuracy.csv, accuracy_reference.csv
   std::string cache_dir;   ///< reference trajectories ('' = recompute every time)
   std::vector<std::string> scenes = {"hanging", "drape", "trampoline", "gravity_well",
@@ -32,6 +35,11 @@ struct AccuracyOptions {
   /// it supports).
   std::vector<int> xpbd_substeps = {4, 8, 16, 32, 64, 128, 256, 512};
   std::vector<int> iterations = {1, 2, 3, 5, 10, 20};
+  /// Error-controlled configurations (docs/method.md, "Error control"): each of these solvers
+  /// runs once per tolerance (m per frame, substeps chosen by the estimate, at most 100
+  /// iterations), with BDF2 and with implicit Euler.
+  std::vector<std::string> error_control_solvers = {"local_global"};
+  std::vector<double> error_tolerances = {1e-4, 3e-5, 1e-5, 3e-6};
   /// Newton at full convergence (the best a step of that size can do), only up to this grid.
   int newton_max_grid = 32;
   /// Simulated times (s) at which positions, energy, strain and the centre of mass are compared

@@ -156,7 +156,14 @@ int main(int argc, char** argv) {
   accuracy_cmd->add_option("--scenes", accuracy.scenes, "scenes")->delimiter(',')
       ->capture_default_str()
       ->check(CLI::IsMember({"hanging", "drape", "trampoline", "gravity_well", "tablecloth",
-                              "peer_cloth"}));
+                              "peer_cloth", "flag", "ball_drop", "curtain", "table_edge",
+                              "stiff_flag", "soft_flag"}));
+  accuracy_cmd->add_option("--error-tolerances", accuracy.error_tolerances,
+                           "error-controlled configurations: tolerances, m per frame ('' = none)")
+      ->delimiter(',')->capture_default_str()->check(CLI::Range(1e-9, 1.0));
+  accuracy_cmd->add_option("--error-control-solvers", accuracy.error_control_solvers,
+                           "solvers run error-controlled")
+      ->delimiter(',')->capture_default_str()->check(CLI::IsMember(cloth_sim::solverNames()));
   accuracy_cmd->add_option("--grids", accuracy.grids, "grid sizes (rows = cols)")->delimiter(',')
       ->capture_default_str()->check(CLI::Range(4, 400));
   accuracy_cmd->add_option("--solvers", accuracy.solvers, "solvers")->delimiter(',')
@@ -219,6 +226,7 @@ int main(int argc, char** argv) {
     scaling.scenes_dir = speed.scenes_dir;
     scaling.meshes_dir = source_dir + "/config/meshes";
     accuracy.scenes_dir = speed.scenes_dir;
+    accuracy.untuned_dir = source_dir + "/bench/scenes";
     if (*floor_cmd) runFloor(floor_options);
     if (*accuracy_cmd) runAccuracy(accuracy);
     drift.scenes_dir = speed.scenes_dir;

@@ -4,6 +4,13 @@
 
 namespace cloth_sim::bench {
 
+SceneConfig fixedConfiguration(SceneConfig config) {
+  SolverFieldsGiven& given = config.given;
+  if (!given.error_tolerance) config.options.settings.error_tolerance = 0.0;
+  given = SolverFieldsGiven{true, true, true, true};
+  return config;
+}
+
 BenchCase makeCase(const std::string& scenes_dir, const std::string& scene, int grid) {
   BenchCase c;
   c.scene = scene;
@@ -12,7 +19,8 @@ BenchCase makeCase(const std::string& scenes_dir, const std::string& scene, int 
   SceneOverrides resized;
   resized.resolution = grid;  // pins stay where they are on the sheet
   resized.substeps = 1;       // one implicit step per frame: the per-step view
-  c.config = applyOverrides(loadSceneFile(scenes_dir + "/" + scene + ".yaml"), resized);
+  c.config =
+      applyOverrides(fixedConfiguration(loadSceneFile(scenes_dir + "/" + scene + ".yaml")), resized);
   return c;
 }
 

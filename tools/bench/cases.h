@@ -17,6 +17,12 @@ struct BenchCase {
   SceneConfig config;  ///< the scene file with the grid (and topology) replaced
 };
 
+/// @p config with every solver field it leaves to the defaults fixed as it now stands (its
+/// substeps, iterations and integrator, no error tolerance): the benchmark sweeps fixed
+/// configurations, not the error-controlled default (resolveSolverDefaults), unless a
+/// configuration asks for it.
+SceneConfig fixedConfiguration(SceneConfig config);
+
 /// Loads config/scenes/<scene>.yaml from @p scenes_dir and sets a grid x grid cloth of the same
 /// size and material (stiffness per spring is resolution independent in 2D; the particles get
 /// lighter, so the problem gets stiffer relative to mass, as it does for a user who refines).

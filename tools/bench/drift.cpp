@@ -34,7 +34,7 @@ void runDrift(const DriftOptions& o) {
   std::ofstream csv(o.out_dir + "/drift.csv");
   csv << "case,solver,substeps,iterations,duration,energy_start,energy_1s,energy_end,drift,"
          "energy_min,energy_max,kinetic_max,frame_ms_median,frame_ms_p10,frame_ms_p90,rollbacks\n";
-  SceneConfig scene = loadSceneFile(o.scenes_dir + "/" + o.scene + ".yaml");
+  SceneConfig scene = fixedConfiguration(loadSceneFile(o.scenes_dir + "/" + o.scene + ".yaml"));
   std::string name = o.scene + "-" + std::to_string(scene.grid.rows);
   if (o.grid > 0) {
     BenchCase c = makeCase(o.scenes_dir, o.scene, o.grid);

@@ -10,6 +10,7 @@
 #include "cloth_sim/core/collision/mesh_obstacle.h"
 #include "cloth_sim/core/io/scene.h"
 #include "cloth_sim/core/model/triangle_mesh.h"
+#include "cases.h"
 #include "stats.h"
 
 namespace cloth_sim::bench {
@@ -42,7 +43,7 @@ Timing timeScene(const SceneConfig& config, double duration) {
 
 /// N balls on a square layout over the middle 1.8 m of the gravity_well sheet, 0.1 m up.
 SceneConfig wellWithBalls(const std::string& scenes_dir, int count) {
-  SceneConfig c = loadSceneFile(scenes_dir + "/gravity_well.yaml");
+  SceneConfig c = fixedConfiguration(loadSceneFile(scenes_dir + "/gravity_well.yaml"));
   c.spheres.clear();
   const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(count))));
   for (int k = 0; k < count; ++k) {
@@ -62,7 +63,7 @@ SceneConfig wellWithBalls(const std::string& scenes_dir, int count) {
 /// The drape cloth at g x g, 0.15 m above an obstacle whose top is at z = 0.75, no sphere.
 SceneConfig clothOver(const std::string& scenes_dir, int grid,
                       std::shared_ptr<const MeshObstacle> obstacle) {
-  SceneConfig c = loadSceneFile(scenes_dir + "/drape.yaml");
+  SceneConfig c = fixedConfiguration(loadSceneFile(scenes_dir + "/drape.yaml"));
   c.grid.rows = c.grid.cols = grid;
   c.grid.pose.translation() = Vec3(0.05, 0.02, 0.9);
   c.spheres.clear();

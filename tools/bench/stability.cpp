@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cases.h"
 #include "cloth_sim/core/solvers/registry.h"
 #include "stats.h"
 
@@ -79,7 +80,7 @@ SceneConfig stabilityScene(Scenario scenario, int grid, double stiffness, double
   c.options.settings.max_iterations = iterations;
   c.options.settings.substeps = 1;  // each cell's time step is the implicit step
   for (int col = 0; col < grid; ++col) c.pins.push_back(PinSelector::atVertex(gridVertex(0, col, grid)));
-  return c;
+  return fixedConfiguration(std::move(c));
 }
 
 CellResult runCell(Scenario scenario, int grid, double stiffness, double time_step,

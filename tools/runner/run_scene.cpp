@@ -22,7 +22,7 @@ namespace {
 struct Options {
   std::string scene_path, solver, linear_solver, integrator, csv, json, positions;
   std::optional<int> iterations, substeps, threads;
-  std::optional<double> dt, tolerance, fold;
+  std::optional<double> dt, tolerance, error_tolerance, fold;
   std::optional<int> resolution;
   std::string self_collision;
   double duration = 5.0;
@@ -115,6 +115,10 @@ int main(int argc, char** argv) {
                  "threads of the kernels, 0 = every core (default: the scene's solver.threads); "
                  "the results are the same for any count")
       ->check(allowedBy(settings::kThreads));
+  app.add_option("--error-tolerance", o.error_tolerance,
+                 "position error a frame may make, m (0 = fixed iterations; with --substeps 0 the "
+                 "substeps follow it too)")
+      ->check(allowedBy(settings::kErrorTolerance));
   app.add_option("--linear-solver", o.linear_solver, "global step solve (default: fused)")
       ->check(oneOf(linearSolverNames()));
   app.add_option("--integrator", o.integrator,
@@ -158,6 +162,7 @@ int main(int argc, char** argv) {
     overrides.substeps = o.substeps;
     overrides.threads = o.threads;
     overrides.tolerance = o.tolerance;
+    overrides.error_tolerance = o.error_tolerance;
     if (!o.linear_solver.empty()) overrides.linear_solver = linearSolverFromName(o.linear_solver);
     overrides.time_step = o.dt;
     if (!o.integrator.empty()) overrides.integrator = integratorFromName(o.integrator);

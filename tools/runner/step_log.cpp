@@ -42,7 +42,8 @@ StepLog::StepLog(const std::string& path, Format format) : out_(&std::cout), for
   }
   if (format_ == Format::kCsv) {
     *out_ << "step,time,wall_ms,solve_ms,iterations,convergence,converged,max_strain,energy,"
-             "contacts,status,self_contacts,intersections,self_contact_ms,intersection_ms\n";
+             "contacts,status,self_contacts,intersections,self_contact_ms,intersection_ms,substeps,"
+             "total_iterations,iteration_error,error_estimate\n";
   }
 }
 
@@ -74,7 +75,10 @@ void StepLog::write(const StepRecord& r) {
           << ", \"self_contacts\": " << s.self_contacts
           << ", \"intersections\": " << s.intersections
           << ", \"self_contact_ms\": " << number(1e3 * s.self_contact_time, true)
-          << ", \"intersection_ms\": " << number(1e3 * s.intersection_time, true) << "}";
+          << ", \"intersection_ms\": " << number(1e3 * s.intersection_time, true)
+          << ", \"substeps\": " << s.substeps << ", \"total_iterations\": " << s.total_iterations
+          << ", \"iteration_error\": " << number(s.iteration_error, true)
+          << ", \"error_estimate\": " << number(s.error_estimate, true) << "}";
   } else {
     *out_ << r.step << ',' << number(r.time, false) << ',' << number(1e3 * s.wall_time, false)
           << ',' << number(1e3 * s.solve_time, false) << ',' << s.iterations << ','
@@ -82,7 +86,9 @@ void StepLog::write(const StepRecord& r) {
           << number(s.max_strain, false) << ',' << number(r.energy, false) << ',' << s.contacts
           << ',' << stepStatusName(s.status) << ',' << s.self_contacts << ',' << s.intersections
           << ',' << number(1e3 * s.self_contact_time, false) << ','
-          << number(1e3 * s.intersection_time, false) << '\n';
+          << number(1e3 * s.intersection_time, false) << ',' << s.substeps << ','
+          << s.total_iterations << ',' << number(s.iteration_error, false) << ','
+          << number(s.error_estimate, false) << '\n';
   }
   first_ = false;
 }

@@ -19,10 +19,18 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
+#include <actionlib/server/simple_action_server.h>
+
+#include <cloth_sim/AddCollider.h>
 #include <cloth_sim/AddGrasp.h>
 #include <cloth_sim/AddPin.h>
 #include <cloth_sim/ClothSimConfig.h>
 #include <cloth_sim/ClothState.h>
+#include <cloth_sim/GetState.h>
+#include <cloth_sim/MoveSphere.h>
+#include <cloth_sim/RemoveCollider.h>
+#include <cloth_sim/SetState.h>
+#include <cloth_sim/StepFramesAction.h>
 #include <cloth_sim/PinMove.h>
 #include <cloth_sim/ReleaseGrasp.h>
 #include <cloth_sim/RemovePin.h>
@@ -120,6 +128,36 @@ class ClothSimNode {
   bool onPause(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
   bool onUnpause(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
   bool onStep(Step::Request& req, Step::Response& res);
+  /// The cloth/step_frames action: a new goal, a cancel, and the timer that steps a chunk of
+  /// frames per tick until the goal is done or cancelled.
+  void onStepGoal();
+  void onStepCancel();
+  void stepActionTick(const ros::SteadyTimerEvent&);
+  /// The action's result now: the frames done so far, the simulated time, its stamp and the
+  /// state digest, with @p message.
+  StepFramesResult stepFramesResult(const std::string& message) const;
+
+  // --- colliders (node_colliders.cpp) ---------------------------------------------------------
+  bool onAddCollider(AddCollider::Request& req, AddCollider::Response& res);
+  bool onRemoveCollider(RemoveCollider::Request& req, RemoveCollider::Response& res);
+  bool onMoveSphere(MoveSphere::Request& req, MoveSphere::Response& res);
+  /// Tracks the tf frame of every body that follows one (the scene's, the robot's links).
+  void trackSceneBodies();
+  /// Body @p id's frame at simulated time @p time (the simulation's BodyPoseSource): NaN while
+  /// tf2 has never had it, so the body is not placed yet.
+  Pose bodyPoseAt(int id, double time);
+  /// cloth/state's colliders, and a warning for a frame looked up before the tf buffer.
+  void addColliderInfo(ClothState& state) const;
+  std::vector<ColliderInfo> colliderInfos() const;
+  /// Warns (throttled) about every grasp or body frame last looked up before the oldest
+  /// transform of the tf buffer (~tf_buffer_duration too short for what was published ahead).
+  void warnFramesBeforeBuffer();
+
+  // --- state snapshots (node_state.cpp) -------------------------------------------------------
+  bool onGetState(GetState::Request& req, GetState::Response& res);
+  bool onSetState(SetState::Request& req, SetState::Response& res);
+  /// cloth/frame_state, when subscribed.
+  void publishFrameState();
 
   // --- grasps (node_grasps.cpp) ---------------------------------------------------------------
   bool onGrasp(AddGrasp::Request& req, AddGrasp::Response& res);
@@ -160,13 +198,26 @@ class ClothSimNode {
   tf2_ros::TransformListener tf_listener_;
   FrameResolver frames_;
   GraspFrames grasp_frames_;
+  GraspFrames body_frames_;  ///< body id -> the tf frame it follows
+  std::set<int> shown_bodies_;  ///< body markers in the last marker array
   SimClock clock_;
   bool paused_ = false;
   std::map<int, ros::Publisher> wrench_pubs_;  ///< grasp id -> cloth/grasps/<id>/wrench
   std::set<int> shown_grasps_;                 ///< grasp arrows in the last marker array
 
   ros::NodeHandle nh_, pnh_;
-  ros::Publisher markers_pub_, state_pub_, points_pub_, clock_pub_;
+  ros::Publisher markers_pub_, state_pub_, points_pub_, clock_pub_, frame_state_pub_;
+  /// What cloth/get_state kept: the core's snapshot and the node's own tracking of it.
+  struct NodeSnapshot {
+    SimulationSnapshot sim;
+    std::map<int, GraspFrames::Tracked> grasp_frames, body_frames;
+    std::uint64_t steps = 0;
+  };
+  std::map<std::uint32_t, NodeSnapshot> snapshots_;  ///< at most kMaxSnapshots, oldest dropped
+  std::uint32_t next_snapshot_ = 0;
+  std::unique_ptr<actionlib::SimpleActionServer<StepFramesAction>> step_action_;
+  std::uint32_t action_frames_left_ = 0, action_frames_done_ = 0;
+  ros::SteadyTimer step_action_timer_;
   ros::Subscriber pin_move_sub_;
   std::vector<ros::ServiceServer> services_;
   diagnostic_updater::Updater diagnostics_;

@@ -37,6 +37,9 @@ struct DiagnosticsInput {
   std::string solver;                           ///< the solver in use
   int substeps = 0;                             ///< per frame
   int iterations = 0;                           ///< per substep
+  double error_tolerance = 0.0;                 ///< m per frame (0: fixed substeps and iterations)
+  double error_estimate = 0.0;                  ///< m, the last frame's (StepReport::error_estimate)
+  bool tolerance_unreachable = false;           ///< StepReport::tolerance_unreachable
   double frame_budget = 0.0;                    ///< s, ~budget_ms (0 = off)
   StepWindow window;                            ///< StepMonitor::takeWindow()
   double real_time_factor = 0.0;                ///< RealTimeWindow::take()

@@ -17,9 +17,12 @@
 
 namespace cloth_sim::node {
 
-/// @p grasp's wrench (Grasp::wrench, simulation frame) expressed in the grasp frame: force and
-/// torque rotated by R^T, R the frame's rotation (the torque is already about its origin).
-geometry_msgs::Wrench wrenchInGraspFrame(const Grasp& grasp);
+/// @p grasp's wrench (Grasp::wrench, simulation frame) as ROS reads a WrenchStamped whose header
+/// names the tf frame the grasp follows: force and torque in that frame's axes (rotated by R^T,
+/// R the frame's rotation), the torque about that frame's origin. The core's torque is about the
+/// grasp point, the frame's origin plus @p offset (m, in the frame): moved to the frame's origin
+/// it gains offset x F.
+geometry_msgs::Wrench wrenchInGraspFrame(const Grasp& grasp, const Vec3& offset);
 
 /// The GraspInfo of @p grasp, tracked by the node as @p tracked.
 GraspInfo toGraspInfo(const Grasp& grasp, const GraspFrames::Tracked& tracked);

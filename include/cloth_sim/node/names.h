@@ -21,6 +21,9 @@ inline constexpr const char* kClock = "/clock";            ///< out, with ~publi
 inline constexpr const char* kPinMove = "cloth/pin_move";  ///< in: cloth_sim/PinMove
 /// out: diagnostic_msgs/DiagnosticArray, published by diagnostic_updater (kDiagnosticsTask).
 inline constexpr const char* kDiagnostics = "/diagnostics";
+/// out: cloth_sim/FrameState, every particle's position and velocity after each frame, built
+/// only while subscribed.
+inline constexpr const char* kFrameState = "cloth/frame_state";
 /// Namespace of the drag handles' interactive marker server (its update, update_full and
 /// feedback topics live under it).
 inline constexpr const char* kPinHandles = "cloth/pin_handles";
@@ -40,6 +43,13 @@ inline constexpr const char* kRelease = "cloth/release";             ///< cloth_
 inline constexpr const char* kPause = "cloth/pause";                 ///< std_srvs/Trigger
 inline constexpr const char* kUnpause = "cloth/unpause";             ///< std_srvs/Trigger
 inline constexpr const char* kStep = "cloth/step";                   ///< cloth_sim/Step
+inline constexpr const char* kAddCollider = "cloth/add_collider";        ///< cloth_sim/AddCollider
+inline constexpr const char* kRemoveCollider = "cloth/remove_collider";  ///< cloth_sim/RemoveCollider
+inline constexpr const char* kMoveSphere = "cloth/move_sphere";          ///< cloth_sim/MoveSphere
+inline constexpr const char* kGetState = "cloth/get_state";              ///< cloth_sim/GetState
+inline constexpr const char* kSetState = "cloth/set_state";              ///< cloth_sim/SetState
+/// The cloth_sim/StepFrames action (its goal, cancel, status, feedback and result topics).
+inline constexpr const char* kStepFrames = "cloth/step_frames";
 /// dynamic_reconfigure's service in the private namespace: "cloth_sim_node/set_parameters".
 inline std::string setParameters() { return std::string(kNode) + "/set_parameters"; }
 
@@ -62,6 +72,8 @@ inline constexpr const char* kSpheresNs = "spheres";      ///< one SPHERE per sp
 inline constexpr const char* kGroundNs = "ground";        ///< one thin CUBE, when there is a ground
 inline constexpr const char* kObstaclesNs = "obstacles";  ///< one TRIANGLE_LIST per mesh obstacle
 inline constexpr const char* kGraspsNs = "grasps";        ///< one ARROW per grasp (id = grasp id)
+/// One marker per rigid-body collider (id = its id; a capsule's caps 1e6 + id and 2e6 + id).
+inline constexpr const char* kBodiesNs = "bodies";
 
 /// Prefix of a pin's drag handle name: "pin_<id>".
 inline constexpr const char* kPinHandlePrefix = "pin_";

@@ -32,6 +32,10 @@ struct NodeOptions {
   /// ~substeps: replaces the scene's implicit steps per frame when > 0; 0 keeps the scene's
   /// (range: settings::kSubsteps).
   int substeps = 0;
+  /// ~error_tolerance, m, [0, 1] (settings::kErrorTolerance): replaces the scene's position
+  /// error a frame may make when given; 0: fixed substeps and iterations. With a scene that
+  /// leaves its substeps to the simulator (or gives 0) the substeps follow it too.
+  std::optional<double> error_tolerance;
   /// ~threads (settings::kThreads): threads of the simulation's kernels and of the marker and
   /// point-cloud building, 0 = every core; unset keeps the scene's solver.threads (default 0).
   /// The results are the same for any count.
@@ -83,6 +87,21 @@ struct NodeOptions {
   /// ~render_rate, or less often when its arrays are large, so as not to exceed this
   /// (RenderPacer; 12 MB/s keeps 30 Hz up to a 40 x 40 cloth, drape's).
   double marker_bandwidth = 12e6;
+  /// ~tf_buffer_duration, s (settings::kTfBufferDuration): how much history the node's tf2
+  /// buffer keeps. A trajectory published ahead is followed from its start only if it spans
+  /// less than this: older transforms are dropped as newer ones arrive (a lookup before the
+  /// oldest kept one holds it and warns).
+  double tf_buffer_duration = 120.0;
+  /// ~robot_description: the URDF text; empty = the global parameter robot_description (read
+  /// only when ~robot_links is set).
+  std::string robot_description;
+  /// ~robot_links: the links whose collision geometry becomes colliders on their tf frames
+  /// (urdfColliders); empty = none.
+  std::vector<std::string> robot_links;
+  /// ~robot_margin, m (settings::kBodyMargin): distance the cloth keeps from those links.
+  double robot_margin = 0.005;
+  /// ~robot_friction (settings::kFriction): their Coulomb friction coefficient.
+  double robot_friction = 0.5;
 };
 
 /// Reads the options from @p private_params, the private namespace as one XmlRpc struct (what

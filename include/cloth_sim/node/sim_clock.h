@@ -24,6 +24,13 @@ class SimClock {
   ros::Time stamp(double sim_time) const { return origin_ + ros::Duration(sim_time); }
   /// The simulation restarts at 0 from @p sim_time: the stamps go on from stamp(sim_time).
   void restart(double sim_time) { origin_ = stamp(sim_time); }
+  /// The simulation jumps from simulated time @p from to @p to (s, a restored snapshot or a
+  /// state set): the stamps go on from stamp(@p from), never back; if @p to is later than that
+  /// stamp itself, they jump forward to @p to (an origin before ROS time 0 does not exist).
+  void jump(double from, double to) {
+    const ros::Time reached = stamp(from);
+    origin_ = reached.toSec() >= to ? reached - ros::Duration(to) : ros::Time(0, 0);
+  }
   /// Without /clock of its own the node follows the ROS time: before each frame it anchors the
   /// frame's end, simulated time @p sim_time, at @p now, so the substeps are looked up over the
   /// frame just past (which the tf2 buffer has) and every output of the frame is stamped now.

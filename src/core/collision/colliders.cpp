@@ -122,7 +122,8 @@ class SphereCandidates {
 /// Returns whether any sphere moved it.
 bool collideWithSpheres(const CollisionStep& step, const std::vector<SphereCollider>& spheres,
                         const SphereCandidates& candidates, bool in_solve_contacts,
-                        Eigen::Index i, Points& end, std::vector<SphereReaction>& reactions) {
+                        Eigen::Index i, Points& end, std::vector<SphereReaction>& reactions,
+                        Vec3& normal) {
   const double h = step.h;
   const Points& start = step.start;
   bool hit = false;
@@ -142,6 +143,7 @@ bool collideWithSpheres(const CollisionStep& step, const std::vector<SphereColli
     if (rel_motion) *rel_motion -= s.center - old_center;
     if (!collideSphere(start.col(i) - old_center, rel_end, s.radius, s.friction, slip, rel_motion)) return;
     const Vec3 correction = s.center + rel_end - end.col(i);
+    if (rel_end.norm() > 1e-12) normal = rel_end.normalized();
     if (s.isDynamic()) {
       // Share the correction by mass; the sphere takes the opposite impulse (applied later).
       const double share = s.mass / (s.mass + step.mass[i]);
@@ -161,8 +163,10 @@ bool collideWithSpheres(const CollisionStep& step, const std::vector<SphereColli
 /// ground's friction (@p still_motion: its motion without the collision, see frictionLoad).
 /// Returns whether it moved.
 bool collideWithGround(const CollisionStep& step, const GroundPlane& ground,
-                       const std::optional<Vec3>& still_motion, Eigen::Index i, Points& end) {
+                       const std::optional<Vec3>& still_motion, Eigen::Index i, Points& end,
+                       Vec3& normal) {
   if (!(ground.enabled && end(2, i) < ground.height)) return false;
+  normal = Vec3::UnitZ();
   const double depth = ground.height - end(2, i);
   end(2, i) = ground.height;
   end.col(i) = step.start.col(i) +
@@ -176,16 +180,52 @@ bool collideWithGround(const CollisionStep& step, const GroundPlane& ground,
 /// side). Returns whether any moved it.
 bool collideWithMeshes(const CollisionStep& step,
                        const std::vector<std::shared_ptr<const MeshObstacle>>& meshes,
-                       const std::optional<Vec3>& still_motion, Eigen::Index i, Points& end) {
+                       const std::optional<Vec3>& still_motion, Eigen::Index i, Points& end,
+                       Vec3& normal) {
   bool hit = false;
   for (const auto& mesh : meshes) {
     Vec3 moved = end.col(i);
-    if (mesh->collide(step.start.col(i), moved, still_motion)) {
+    if (mesh->collide(step.start.col(i), moved, still_motion, &normal)) {
       end.col(i) = moved;
       hit = true;
     }
   }
   return hit;
+}
+
+/// The velocity of particle @p i after a collider moved its end from @p solved to @p end,
+/// @p normal the collider's (unit, or zero when unknown). The integrator's own velocity is
+/// (end - x_n) / h for implicit Euler, and for a multistep integrator (BDF2, h_i < h) the solved
+/// velocity plus (end - solved) / h_i. Along the normal a contact is inelastic: a multistep
+/// integrator would read the sudden stop as a deceleration and send the particle back up
+/// (BDF2: at half its approach speed), so along it the velocity restarts as implicit Euler's,
+/// (end - x_n) . n / h, and so does the history v_n (the next step then predicts it moving on
+/// at that speed). Tangentially the motion keeps its order (a slide at constant deceleration
+/// stays exact).
+void restartAlong(const CollisionStep& step, const Vec3& normal, Eigen::Index i,
+                  const Vec3& solved, const Vec3& end, Points& velocities) {
+  const Vec3 euler = (end - step.start.col(i)) / step.h;
+  if (step.implicit_h <= 0.0 || step.implicit_h == step.h) {
+    velocities.col(i) = euler;
+    return;
+  }
+  Vec3 v = velocities.col(i) + step.velocityGain() * (end - solved);
+  v += normal * normal.dot(euler - v);
+  velocities.col(i) = v;
+  if (step.history_velocities != nullptr) {
+    Points& history = *step.history_velocities;
+    history.col(i) += normal * normal.dot(euler - Vec3(history.col(i)));
+  }
+}
+
+/// Particle @p i against the rigid bodies (collideWithBodies). Returns whether they moved it.
+bool collideWithBodyColliders(const CollisionStep& step, const BodySet& bodies, Eigen::Index i,
+                              Points& end) {
+  if (bodies.empty()) return false;
+  Vec3 moved = end.col(i);
+  if (!collideWithBodies(bodies.bodies(), step.start.col(i), moved, step.freeMotion(i))) return false;
+  end.col(i) = moved;
+  return true;
 }
 
 /// Each dynamic sphere takes the impulses of @p reactions (summed over the particles), and
@@ -211,7 +251,7 @@ void applySphereReactions(const CollisionStep& step, const std::vector<SphereRea
       if (dist >= allowed || dist < 1e-12) continue;
       const Vec3 push = (allowed - dist) * d / dist;
       end.col(i) += push;
-      velocities.col(i) = (end.col(i) - step.start.col(i)) / h;
+      velocities.col(i) += push / h;  // along the normal: inelastic, as restartAlong
       s.velocity -= step.mass[i] * push / (h * s.mass);
     }
   }
@@ -282,19 +322,24 @@ int resolveCollisions(const CollisionStep& step, Colliders& colliders, Points& e
   int corrected = 0;
   for (Eigen::Index i = 0; i < end.cols(); ++i) {
     if (!step.movable[i]) continue;
+    const Vec3 solved = end.col(i);
     // The solve already applied the ground's and the meshes' friction with their contact
     // forces (ContactForces): what is left here is a small residual, corrected without any.
     const std::optional<Vec3> still_motion =
         in_solve_contacts ? std::optional<Vec3>(Vec3::Zero()) : step.freeMotion(i);
-    bool hit = collideWithSpheres(step, spheres, candidates, in_solve_contacts, i, end, reactions);
+    Vec3 normal = Vec3::Zero();
+    bool hit =
+        collideWithSpheres(step, spheres, candidates, in_solve_contacts, i, end, reactions, normal);
     // The ground before the meshes: lifting a particle onto the ground must not put it into
     // an obstacle standing there (a table leg); the mesh response keeps its start side.
-    hit = collideWithGround(step, ground, still_motion, i, end) || hit;
-    hit = collideWithMeshes(step, colliders.meshes(), still_motion, i, end) || hit;
+    hit = collideWithGround(step, ground, still_motion, i, end, normal) || hit;
+    hit = collideWithMeshes(step, colliders.meshes(), still_motion, i, end, normal) || hit;
+    // The bodies were not in the solve: their friction presses with the particle's own load.
+    hit = collideWithBodyColliders(step, colliders.bodies(), i, end) || hit;
     // A mesh standing on the ground may push a particle round its bottom edge below it.
     if (ground.enabled) end(2, i) = std::max(end(2, i), ground.height);
     if (hit) {
-      velocities.col(i) = (end.col(i) - step.start.col(i)) / step.h;
+      restartAlong(step, normal, i, solved, end.col(i), velocities);
       ++corrected;
     }
   }

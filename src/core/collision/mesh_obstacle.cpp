@@ -82,7 +82,8 @@ bool MeshObstacle::clear(const Vec3& a, const Vec3& b) const {
   return !hit;
 }
 
-bool MeshObstacle::collide(const Vec3& start, Vec3& end, const std::optional<Vec3>& free_motion) const {
+bool MeshObstacle::collide(const Vec3& start, Vec3& end, const std::optional<Vec3>& free_motion,
+                           Vec3* contact_normal) const {
   bool changed = false;
   last_candidates_ = 0;
   const Vec3 wanted = end;
@@ -136,6 +137,7 @@ bool MeshObstacle::collide(const Vec3& start, Vec3& end, const std::optional<Vec
     const Vec3 pushed = end + correction * normal;
     end = start + applyFriction(pushed - start, normal, frictionLoad(correction, normal, free_motion), friction_);
     changed = true;
+    if (contact_normal != nullptr) *contact_normal = normal;
     // A straight path that only clipped an edge: when the slid particle reaches the wanted end
     // in a straight line without crossing or touching the mesh, it went round the edge (else a
     // particle pulled over a box's top edge would hook under it, step after step).

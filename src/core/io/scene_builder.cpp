@@ -7,6 +7,7 @@
 #include "cloth_sim/core/io/scene_limits.h"
 #include "cloth_sim/core/model/grid_builder.h"
 #include "cloth_sim/core/settings/range.h"
+#include "cloth_sim/core/solvers/registry.h"
 
 namespace cloth_sim {
 namespace {
@@ -152,6 +153,24 @@ std::vector<PinSpec> resolvePins(const SceneConfig& scene, const Points& rest) {
   return out;
 }
 
+SolverSettings resolveSolverDefaults(const SceneConfig& scene, double size) {
+  SolverSettings s = scene.options.settings;
+  const SolverFieldsGiven& given = scene.given;
+  const SolverCapabilities& can = solverEntry(scene.options.solver).capabilities;
+  if (!can.tolerance) return s;
+  // A scene that fixes substeps or iterations keeps a fixed configuration unless it asks for
+  // error control itself (an error tolerance, or substeps 0); one that says neither gets it.
+  const bool asks = s.substeps == 0 || (!given.substeps && !given.iterations);
+  if (!given.error_tolerance && asks) {
+    s.error_tolerance = kDefaultRelativeErrorTolerance * size;
+  }
+  if (s.error_tolerance <= 0.0) return s;  // fixed: as defaultSceneOptions() and the scene say
+  if (!given.integrator && can.supports(Integrator::kBdf2)) s.integrator = Integrator::kBdf2;
+  if (!given.substeps) s.substeps = 0;
+  if (!given.iterations) s.max_iterations = kDefaultIterationCap;
+  return s;
+}
+
 Simulation makeSimulation(const SceneConfig& scene) {
   BuiltObject object = buildCloth(scene);
   checkPrecision(scene, object);
@@ -163,8 +182,12 @@ Simulation makeSimulation(const SceneConfig& scene) {
   Colliders colliders;
   for (const SphereCollider& s : scene.spheres) colliders.addSphere(s);
   for (const MeshColliderSpec& m : scene.meshes) colliders.addMesh(m.obstacle);
+  for (const BodyCollider& b : scene.bodies) colliders.mutableBodies().add(b);
   colliders.setGround(scene.ground);
   SimulationOptions options = scene.options;
+  const Points& rest = object.rest_positions;
+  options.settings =
+      resolveSolverDefaults(scene, (rest.rowwise().maxCoeff() - rest.rowwise().minCoeff()).norm());
   options.frame_time = scene.time_step;
   Simulation sim(std::move(object.model), object.rest_positions, std::move(pins),
                  std::move(colliders), std::move(options));

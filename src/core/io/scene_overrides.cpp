@@ -38,12 +38,25 @@ void resize(SceneConfig& scene, int n) {
 SceneConfig applyOverrides(SceneConfig scene, const SceneOverrides& overrides) {
   SolverSettings& settings = scene.options.settings;
   if (overrides.solver) scene.options.solver = *overrides.solver;
-  if (overrides.iterations) settings.max_iterations = *overrides.iterations;
-  if (overrides.substeps) settings.substeps = *overrides.substeps;
+  if (overrides.iterations) {
+    settings.max_iterations = *overrides.iterations;
+    scene.given.iterations = true;
+  }
+  if (overrides.substeps) {
+    settings.substeps = *overrides.substeps;
+    scene.given.substeps = true;
+  }
   if (overrides.tolerance) settings.tolerance = *overrides.tolerance;
+  if (overrides.error_tolerance) {
+    settings.error_tolerance = *overrides.error_tolerance;
+    scene.given.error_tolerance = true;
+  }
   if (overrides.linear_solver) settings.linear_solver = *overrides.linear_solver;
   if (overrides.warm_start) settings.warm_start = *overrides.warm_start;
-  if (overrides.integrator) settings.integrator = *overrides.integrator;
+  if (overrides.integrator) {
+    settings.integrator = *overrides.integrator;
+    scene.given.integrator = true;
+  }
   if (overrides.threads) settings.threads = *overrides.threads;
   for (const auto& [param, value] : overrides.params) settings.params.set(*param, value);
   if (overrides.time_step) scene.time_step = *overrides.time_step;

@@ -4,6 +4,7 @@
 #include <set>
 #include <sstream>
 
+#include "cloth_sim/core/io/scene_bodies.h"
 #include "cloth_sim/core/io/scene_fields.h"
 #include "cloth_sim/core/solvers/registry.h"
 
@@ -17,12 +18,14 @@ PinSelector PinSelector::atVertex(int vertex) {
 
 namespace {
 
-/// solver: {name, iterations, substeps, tolerance, integrator, threads} and, for every solver of the
-/// registry that has settings of its own, its block solver.<name>: {<field>: value, ...}.
-void readSolver(const SceneFields& r, const YAML::Node& node, SimulationOptions& options) {
+/// solver: {name, iterations, substeps, tolerance, integrator, error_tolerance, threads} and, for
+/// every solver of the registry that has settings of its own, its block solver.<name>:
+/// {<field>: value, ...}.
+void readSolver(const SceneFields& r, const YAML::Node& node, SimulationOptions& options,
+                SolverFieldsGiven& given) {
   const std::string path = "solver";
   std::set<std::string> keys = {"name",      "iterations", "substeps",
-                                "tolerance", "integrator", "threads"};
+                                 "tolerance", "integrator", "error_tolerance", "threads"};
   for (const SolverEntry& entry : solverRegistry()) {
     if (!entry.params.empty()) keys.insert(entry.name);
   }
@@ -38,6 +41,7 @@ void readSolver(const SceneFields& r, const YAML::Node& node, SimulationOptions&
   SolverSettings& s = options.settings;
   if (node["integrator"]) {
     const std::string name = r.word(node["integrator"], settings::kIntegrator.name);
+    given.integrator = true;
     try {  // the message lists the names
       s.integrator = integratorFromName(name);
     } catch (const std::invalid_argument& e) {
@@ -45,11 +49,18 @@ void readSolver(const SceneFields& r, const YAML::Node& node, SimulationOptions&
     }
   }
   if (node["iterations"]) {
+    given.iterations = true;
     s.max_iterations =
         r.integer(node["iterations"], settings::kIterations.name, settings::kIterations);
   }
   if (node["substeps"]) {
+    given.substeps = true;
     s.substeps = r.integer(node["substeps"], settings::kSubsteps.name, settings::kSubsteps);
+  }
+  if (node["error_tolerance"]) {
+    given.error_tolerance = true;
+    s.error_tolerance = r.number(node["error_tolerance"], settings::kErrorTolerance.name,
+                                 settings::kErrorTolerance);
   }
   if (node["tolerance"]) {
     s.tolerance = r.number(node["tolerance"], settings::kTolerance.name, settings::kTolerance);
@@ -261,8 +272,9 @@ void readMeshColliders(const SceneFields& r, const YAML::Node& node, SceneConfig
 }
 
 void readColliders(const SceneFields& r, const YAML::Node& node, SceneConfig& scene) {
-  r.map(node, "colliders", {"spheres", "meshes", "ground"});
+  r.map(node, "colliders", {"spheres", "meshes", "ground", "bodies"});
   if (node["meshes"]) readMeshColliders(r, node["meshes"], scene);
+  if (node["bodies"]) readBodyColliders(r, node["bodies"], scene.bodies);
   if (const YAML::Node spheres = node["spheres"]) {
     if (!spheres.IsSequence()) r.fail("colliders.spheres", "must be a list");
     for (std::size_t k = 0; k < spheres.size(); ++k) {
@@ -336,7 +348,7 @@ SceneConfig parseScene(const std::string& yaml_text, const std::string& source) 
     scene.time_step = r.number(root["time_step"], "time_step", settings::kTimeStep);
   }
   if (root["gravity"]) scene.gravity = r.vec3(root["gravity"], "gravity", &settings::kGravity);
-  if (root["solver"]) readSolver(r, root["solver"], scene.options);
+  if (root["solver"]) readSolver(r, root["solver"], scene.options, scene.given);
   if (root["divergence_strain"]) {
     scene.options.divergence_strain =
         r.number(root["divergence_strain"], "divergence_strain", settings::kDivergenceStrain);

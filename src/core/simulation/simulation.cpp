@@ -70,13 +70,24 @@ Simulation::Simulation(Model model, const Points& rest_positions, PinSet pins, C
   shortest_rest_length_ = rest.empty() ? std::numeric_limits<double>::infinity()
                                        : *std::min_element(rest.begin(), rest.end());
   if (options_.self_contact.enabled) setSelfContact(options_.self_contact);
-  changed(kPinSet);
+  changed(kPinSet | kControl);
   inputs_.startPinsAt(pins_, state_.positions);
 }
 
 void Simulation::changed(unsigned changes) {
-  if ((changes & (kPinSet | kStiffness | kStepSize | kIntegrator)) != 0) ++revision_;
-  if ((changes & (kPinSet | kStepSize | kRestart)) != 0) state_.has_previous = false;
+  if ((changes & (kPinSet | kStiffness | kIntegrator)) != 0) ++revision_;
+  if ((changes & (kPinSet | kRestart)) != 0) state_.has_previous = false;
+  if ((changes & kRestart) != 0) controller_.restart();
+  if ((changes & kControl) != 0) {
+    const SolverSettings& s = options_.settings;
+    if (s.automaticSubsteps()) {
+      const int order = s.integrator == Integrator::kImplicitEuler ? 1 : 2;
+      controller_ = StepController(s.error_tolerance, order, 1, kMaxAutomaticSubsteps);
+      if (substeps_ < 1) substeps_ = kFirstAutomaticSubsteps;
+    } else {
+      substeps_ = s.substeps;
+    }
+  }
   if ((changes & kPinSet) != 0) {
     movable_.assign(model_.particleCount(), 1);
     for (const Pin& p : pins_.pins()) {
@@ -95,16 +106,21 @@ StepReport Simulation::step() {
   const auto t0 = std::chrono::steady_clock::now();
   const State before = state_;
   const Colliders colliders_before = colliders_;
-  const int n = options_.settings.substeps;
+  const int n = substeps_;
   const double h = substepTime();
   inputs_.beginFrame(pins_, maxPinMove(), options_.frame_time, colliders_);
   const SubstepWorld world = substepWorld();
   StepReport report;
+  const double tolerance = options_.settings.error_tolerance;
+  report.error_tolerance = tolerance;
+  // Each substep's iterations stop at a share of its part of the frame's error tolerance.
+  const double iteration_tolerance = kIterationShare * tolerance / n;
   for (int k = 1; k <= n; ++k) {
     // A grasp's frame is asked where it is at the end of each substep, so a moving gripper
     // carries the cloth continuously, not in one jump a frame.
     const PinSet& pins = inputs_.pinsAt(k, n, state_.time + h, grasps_, pins_);
-    substep_.run(world, pins, h, revision_, report);
+    colliders_.mutableBodies().place(state_.time + h, body_pose_source_);  // bodies likewise
+    substep_.run(world, pins, h, revision_, iteration_tolerance, tolerance > 0.0, report);
   }
   report.max_strain = maxStrain(model_.springs, state_.positions);
   report.status = frameStatus(state_, colliders_, report.max_strain, options_.divergence_strain);
@@ -116,6 +132,13 @@ StepReport Simulation::step() {
     report.max_strain = maxStrain(model_.springs, state_.positions);
   }
   inputs_.endFrame(kept, pins_, grasps_, options_.frame_time, colliders_);
+  if (options_.settings.automaticSubsteps()) {
+    // A rolled-back frame says its error was too large for its substeps.
+    const StepController::Decision next =
+        controller_.next(n, kept ? report.error_estimate : std::numeric_limits<double>::infinity());
+    substeps_ = next.substeps;
+    report.tolerance_unreachable = next.capped;
+  }
   grasps_.updateWrenches(pins_, pin_loads_, state_.positions);
   if (self_contact_) {
     const auto t_count = std::chrono::steady_clock::now();
@@ -131,7 +154,7 @@ double Simulation::maxPinMove() const {
   // A target jumping d in one implicit step stretches the springs of its particle by at most
   // d / r before the cloth follows: keeping that a tenth of divergence_strain keeps a drag,
   // however fast, far from a rolled-back frame.
-  return options_.settings.substeps * shortest_rest_length_ * options_.divergence_strain / 10.0;
+  return substeps_ * shortest_rest_length_ * options_.divergence_strain / 10.0;
 }
 
 void Simulation::rollBack(const State& state, const Colliders& colliders) {
@@ -155,7 +178,8 @@ void Simulation::reset() {
   colliders_ = initial_colliders_;
   inputs_.startPinsAt(pins_, state_.positions);
   inputs_.clearSphereJumps();
-  changed(same_pins ? kRestart : kRestart | kPinSet);
+  substeps_ = 0;  // automatic substeps start afresh too: the same run again, bit for bit
+  changed(same_pins ? kRestart | kControl : kRestart | kControl | kPinSet);
 }
 
 void Simulation::resetCloth() {
@@ -226,9 +250,7 @@ void Simulation::setDamping(double damping) {
 
 void Simulation::setTimeStep(double h) {
   settings::kTimeStep.require(h, "time step");
-  if (h == options_.frame_time) return;
-  options_.frame_time = h;
-  changed(kStepSize);
+  options_.frame_time = h;  // variable-step BDF2 and the kept factors follow a new step
 }
 
 void Simulation::setSolver(const std::string& name) {
@@ -242,8 +264,7 @@ void Simulation::setSolver(const std::string& name) {
 void Simulation::setSolverSettings(const SolverSettings& settings) {
   settings.validate();
   solver_->requireSettings(settings);
-  unsigned changes = 0;
-  if (settings.substeps != options_.settings.substeps) changes |= kStepSize;
+  unsigned changes = kControl;
   if (settings.integrator != options_.settings.integrator) changes |= kIntegrator;
   options_.settings = settings;
   changed(changes);

@@ -1,5 +1,6 @@
 #include "cloth_sim/core/simulation/substep.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "cloth_sim/core/collision/sphere_impacts.h"
@@ -8,14 +9,37 @@
 namespace cloth_sim {
 
 void SubstepPipeline::run(const SubstepWorld& world, const PinSet& pins, double h,
-                          std::uint64_t revision, StepReport& report) {
+                          std::uint64_t revision, double iteration_tolerance, bool estimate_error,
+                          StepReport& report) {
+  State& state = world.state;
+  if (estimate_error) {  // the history the step overwrites: v_{n-1} and its step
+    older_velocities_ = state.previous_velocities;
+    older_step_ = state.has_previous ? state.previous_step : 0.0;
+    touched_.swap(touched_before_);
+    touched_.assign(static_cast<std::size_t>(state.positions.cols()), 0);
+  }
+  collide(world, pins, h, revision, iteration_tolerance, report);
+  if (estimate_error) {
+    std::vector<char> skip = touched_;
+    for (std::size_t i = 0; i < touched_before_.size() && i < skip.size(); ++i) {
+      skip[i] |= touched_before_[i];
+    }
+    report.error_estimate += localErrorEstimate(world.model, pins, state, older_velocities_,
+                                                older_step_, world.settings.integrator, skip);
+  }
+}
+
+void SubstepPipeline::collide(const SubstepWorld& world, const PinSet& pins, double h,
+                              std::uint64_t revision, double iteration_tolerance,
+                              StepReport& report) {
   State& state = world.state;
   Colliders& colliders = world.colliders;
   const Model& model = world.model;
   const bool loads = !pins.empty();
   // Nothing to collide with: no contacts and no start state to keep.
   const bool collide = !colliders.empty() || world.self_contact != nullptr;
-  const SolverInput input{model, pins, h, revision, collide ? &contacts_ : nullptr};
+  SolverInput input{model, pins, h, revision, collide ? &contacts_ : nullptr};
+  input.iteration_tolerance = iteration_tolerance;
   if (loads) reactions_.begin(input, state, world.settings.integrator);
   if (!collide) {
     solve(world, input, report);
@@ -24,17 +48,26 @@ void SubstepPipeline::run(const SubstepWorld& world, const PinSet& pins, double 
   }
   const Points start = state.positions, start_velocities = state.velocities;
   colliders.advance(h, model.gravity, velocityDecay(model, h));
-  const CollisionStep collision{h,     model.mass,        world.movable,
-                                start, &start_velocities, model.gravity};
-  contacts_.setThreads(resolveThreads(world.settings.threads));
-  if (world.self_contact != nullptr) world.self_contact->setThreads(resolveThreads(world.settings.threads));
+  // The integrator's own velocity change per metre of correction (from the state before it).
+  const double implicit_h =
+      StepRecurrence::of(state, h, world.settings.integrator, model.damping).implicit_h;
+  CollisionStep collision{h,     model.mass,        world.movable,
+                          start, &start_velocities, model.gravity, implicit_h};
+  const int threads = resolveThreads(world.settings.threads);
+  contacts_.setThreads(threads);
+  if (world.self_contact != nullptr) world.self_contact->setThreads(threads);
   contacts_.beginStep(collision, colliders);
   const SolveResult solved = solve(world, input, report);
   // The loads of the solve itself, before the collision response moves soft-pinned particles.
   if (loads) reactions_.finish(model, pins, state.positions, world.pin_loads);
+  const Points solved_positions = touched_.empty() ? Points() : state.positions;
   // Only a solver that solved the contacts this step has fresh ball positions to hand over.
+  if (state.has_previous) collision.history_velocities = &state.previous_velocities;
   if (solved.used_contacts) {
+    if (!touched_.empty()) contacts_.markTouched(touched_);
     contacts_.finish(colliders);
+    contacts_.completeFriction(state.positions, state.velocities, collision.history_velocities,
+                               iteration_tolerance > 0.0);
     report.contacts += contacts_.activeCount();
   }
   const auto t_self = std::chrono::steady_clock::now();
@@ -54,6 +87,11 @@ void SubstepPipeline::run(const SubstepWorld& world, const PinSet& pins, double 
     self_time += std::chrono::steady_clock::now() - t_resolve;
     report.self_contact_time += std::chrono::duration<double>(self_time).count();
   }
+  if (!touched_.empty()) {  // moved after the solve: a collider or the cloth itself corrected it
+    for (Eigen::Index i = 0; i < state.positions.cols(); ++i) {
+      if (state.positions.col(i) != solved_positions.col(i)) touched_[i] = 1;
+    }
+  }
 }
 
 SolveResult SubstepPipeline::solve(const SubstepWorld& world, const SolverInput& input,
@@ -64,6 +102,8 @@ SolveResult SubstepPipeline::solve(const SubstepWorld& world, const SolverInput&
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_solve).count();
   ++report.substeps;
   report.iterations = solved.iterations;
+  report.total_iterations += solved.iterations;
+  report.iteration_error = std::max(report.iteration_error, solved.iteration_error);
   report.convergence = solved.convergence;
   report.converged = solved.converged;
   if (solved.midpoint_fallback) ++report.midpoint_fallbacks;

@@ -1,12 +1,58 @@
 #include "cloth_sim/core/solvers/implicit_euler_problem.h"
 
 #include <cmath>
+#include <vector>
 
 #include "cloth_sim/core/model/spring_kernels.h"
 
 namespace cloth_sim {
 
 double velocityDecay(const Model& model, double h) { return std::exp(-model.damping * h); }
+
+StepRecurrence StepRecurrence::of(const State& state, double h, Integrator integrator,
+                                  double damping) {
+  StepRecurrence r;
+  r.h = h;
+  const double q = std::exp(-damping * h);
+  r.bdf2 = integrator == Integrator::kBdf2 && state.has_previous && state.previous_step > 0.0 &&
+           state.previous_positions.cols() == state.positions.cols() &&
+           state.previous_velocities.cols() == state.positions.cols();
+  if (r.bdf2) {
+    const double omega = h / state.previous_step;
+    r.constant = omega == 1.0;
+    const double a1 = (1.0 + omega) * (1.0 + omega) / (1.0 + 2.0 * omega);
+    const double a0 = omega * omega / (1.0 + 2.0 * omega);
+    r.implicit_h = h * (1.0 + omega) / (1.0 + 2.0 * omega);
+    // Each past velocity decays by its age (q, q q_p): exact for a free damped particle.
+    const double q_previous = q * std::exp(-damping * state.previous_step);
+    r.decay = q;
+    r.cx = a1;
+    r.cxp = -a0;
+    r.cv = r.implicit_h * a1 * q;
+    r.cvp = -r.implicit_h * a0 * q_previous;
+    r.dx = a1;
+    r.dxp = -a0;
+  } else if (integrator == Integrator::kImplicitMidpoint) {
+    r.midpoint = true;
+    r.implicit_h = 0.5 * h;
+    r.cv = r.implicit_h * q;
+  } else {
+    r.implicit_h = h;
+    r.cv = h * q;
+  }
+  return r;
+}
+
+Vec3 StepRecurrence::inertial(const State& state, Eigen::Index i) const {
+  if (constant) {
+    return (4.0 * state.positions.col(i) - state.previous_positions.col(i)) / 3.0 +
+           (2.0 * h / 9.0) * (4.0 * decay * state.velocities.col(i) -
+                              decay * decay * state.previous_velocities.col(i));
+  }
+  Vec3 y = cx * state.positions.col(i) + cv * state.velocities.col(i);
+  if (bdf2) y += cxp * state.previous_positions.col(i) + cvp * state.previous_velocities.col(i);
+  return y;
+}
 
 ImplicitStepProblem ImplicitStepProblem::build(const Model& model, const PinSet& pins,
                                                const State& state, double h,
@@ -17,29 +63,70 @@ ImplicitStepProblem ImplicitStepProblem::build(const Model& model, const PinSet&
   p.h = h;
   p.start = state.positions;
   p.start_velocities = state.velocities;
-  p.bdf2 = integrator == Integrator::kBdf2 && state.has_previous &&
-           state.previous_positions.cols() == state.positions.cols() &&
-           state.previous_velocities.cols() == state.positions.cols();
-  if (p.bdf2) {
-    // Each past velocity decays by its age (q, q^2): exact for a free damped particle, whose
-    // velocities then stay q^n v_0, as implicit Euler's q v_n is.
-    const double q = velocityDecay(model, p.h);
-    p.implicit_h = 2.0 * p.h / 3.0;
-    p.previous = state.previous_positions;
+  p.recurrence = StepRecurrence::of(state, h, integrator, model.damping);
+  const StepRecurrence& r = p.recurrence;
+  p.bdf2 = r.bdf2;
+  p.midpoint = r.midpoint;
+  p.implicit_h = r.implicit_h;
+  if (r.constant) {
+    const double q = r.decay;
     p.inertial = (4.0 * state.positions - state.previous_positions) / 3.0 +
-                 (2.0 * p.h / 9.0) * (4.0 * q * state.velocities - q * q * state.previous_velocities);
-  } else if (integrator == Integrator::kImplicitMidpoint) {
-    p.midpoint = true;
-    p.implicit_h = 0.5 * p.h;
-    p.inertial = state.positions + (0.5 * p.h * velocityDecay(model, p.h)) * state.velocities;
+                 (2.0 * h / 9.0) * (4.0 * q * state.velocities - q * q * state.previous_velocities);
   } else {
-    p.implicit_h = p.h;
-    p.inertial = state.positions + (p.h * velocityDecay(model, p.h)) * state.velocities;
+    p.inertial = r.cx * state.positions + r.cv * state.velocities;
+    if (p.bdf2) p.inertial += r.cxp * state.previous_positions + r.cvp * state.previous_velocities;
   }
+  if (p.bdf2) p.previous = state.previous_positions;
   for (const Pin& pin : pins.pins()) {
     if (pin.isHard()) p.inertial.col(pin.vertex) = pin.target;
   }
   return p;
+}
+
+double localErrorEstimate(const Model& model, const PinSet& pins, const State& after,
+                          const Points& older_velocities, double older_step,
+                          Integrator integrator, const std::vector<char>& skip) {
+  const Eigen::Index n = after.positions.cols();
+  if (!after.has_previous || after.previous_step <= 0.0) return 0.0;
+  std::vector<char> free(static_cast<std::size_t>(n), 1);
+  for (const Pin& pin : pins.pins()) {
+    if (pin.isHard()) free[pin.vertex] = 0;
+  }
+  for (std::size_t i = 0; i < skip.size() && i < free.size(); ++i) {
+    if (skip[i]) free[i] = 0;
+  }
+  const double h = after.previous_step;
+  const Points& x_n = after.previous_positions;
+  const Points& v_n = after.previous_velocities;
+  const bool third_order = integrator != Integrator::kImplicitEuler && older_step > 0.0 &&
+                           older_velocities.cols() == n;
+  double weight = 0.0;
+  if (third_order) {
+    // x''' from the velocities' second divided difference:
+    // x''' ~ 2 ((v_{n+1} - v_n) / h - (v_n - v_{n-1}) / h_p) / (h + h_p); error C h^3 x'''.
+    const double omega = h / older_step;
+    const double c = integrator == Integrator::kBdf2
+                         ? (1.0 + omega) * (1.0 + omega) / (6.0 * omega * (1.0 + 2.0 * omega))
+                         : 1.0 / 12.0;
+    weight = c * h * h * h * 2.0 / (h + older_step);
+  }
+  const double hq = h * std::exp(-model.damping * h);
+  double sum = 0.0;
+  int count = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!free[i]) continue;
+    Vec3 e;
+    if (third_order) {
+      const Vec3 slope_new = (after.velocities.col(i) - v_n.col(i)) / h;
+      const Vec3 slope_old = (v_n.col(i) - older_velocities.col(i)) / older_step;
+      e = weight * (slope_new - slope_old);
+    } else {
+      e = 0.5 * (after.positions.col(i) - x_n.col(i) - hq * v_n.col(i));
+    }
+    sum += e.squaredNorm();
+    ++count;
+  }
+  return count > 0 ? std::sqrt(sum / count) : 0.0;
 }
 
 double externalPotential(const Model& model, const PinSet& pins, const Points& x) {
@@ -93,13 +180,16 @@ State ImplicitStepProblem::finish(const Points& x, double start_time) const {
       next.velocities.col(pin.vertex) = (pin.target - start.col(pin.vertex)) / h;
     }
   } else {
+    const StepRecurrence& r = recurrence;
     next.positions = x;
-    if (bdf2) next.velocities = (3.0 * x - 4.0 * start + previous) / (2.0 * h);
+    if (r.constant) next.velocities = (3.0 * x - 4.0 * start + previous) / (2.0 * h);
+    else if (bdf2) next.velocities = (x - r.dx * start - r.dxp * previous) / r.implicit_h;
     else next.velocities = (x - start) / h;
   }
   next.time = start_time + h;
   next.previous_positions = start;
   next.previous_velocities = start_velocities;
+  next.previous_step = h;
   next.has_previous = true;
   return next;
 }

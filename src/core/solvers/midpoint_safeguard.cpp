@@ -36,7 +36,8 @@ SolveResult MidpointSafeguard::step(const SolverInput& input, const SolverSettin
     state = before;
     SolverSettings euler = settings;
     euler.integrator = Integrator::kImplicitEuler;
-    const SolverInput half{input.model, input.pins, 0.5 * input.h, input.revision, nullptr};
+    SolverInput half{input.model, input.pins, 0.5 * input.h, input.revision, nullptr};
+    half.iteration_tolerance = 0.5 * input.iteration_tolerance;  // two steps share it
     inner_->step(half, euler, state);
     solved = inner_->step(half, euler, state);
     state.time = before.time + input.h;

@@ -147,7 +147,11 @@ SolveResult NewtonSolver::minimize(const SolverInput& in, const SolverSettings& 
     // does; below tolerance, take it and stop.
     const double moved = (x - problem.inertial).norm();
     const double full_step = dx.norm() / std::max(moved, std::numeric_limits<double>::min());
-    if (full_step < tolerance) {
+    // Near the solution the full Newton step is the distance to it (quadratic convergence).
+    result.iteration_error = dx.norm() / std::sqrt(double(nf));
+    const bool close_enough =
+        in.iteration_tolerance > 0.0 && result.iteration_error <= in.iteration_tolerance;
+    if (full_step < tolerance || close_enough) {
       take(1.0);
       x.swap(trial);
       result.convergence = full_step;

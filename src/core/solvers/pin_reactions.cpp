@@ -9,24 +9,14 @@ void PinReactions::begin(const SolverInput& input, const State& state, Integrato
   // overwrites theirs with the target).
   const Model& model = input.model;
   const PinSet& pins = input.pins;
-  const double h = input.h;
-  const double q = velocityDecay(model, h);
-  const bool bdf2 = integrator == Integrator::kBdf2 && state.has_previous &&
-                    state.previous_positions.cols() == state.positions.cols() &&
-                    state.previous_velocities.cols() == state.positions.cols();
-  implicit_h_ = bdf2 ? 2.0 * h / 3.0 : h;
+  const StepRecurrence r = StepRecurrence::of(state, input.h, integrator, model.damping);
+  implicit_h_ = r.implicit_h;
   inertial_.resize(pins.size());
   pin_of_.assign(model.particleCount(), -1);
   for (std::size_t p = 0; p < pins.size(); ++p) {
     const int i = pins.pins()[p].vertex;
     pin_of_[i] = static_cast<int>(p);
-    if (bdf2) {
-      inertial_[p] = (4.0 * state.positions.col(i) - state.previous_positions.col(i)) / 3.0 +
-                     (2.0 * h / 9.0) * (4.0 * q * state.velocities.col(i) -
-                                        q * q * state.previous_velocities.col(i));
-    } else {
-      inertial_[p] = state.positions.col(i) + (h * q) * state.velocities.col(i);
-    }
+    inertial_[p] = r.inertial(state, i);
   }
 }
 

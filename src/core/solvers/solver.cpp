@@ -1,5 +1,7 @@
 #include "cloth_sim/core/solvers/solver.h"
 
+#include <algorithm>
+
 #include <cassert>
 #include <cstddef>
 #include <stdexcept>
@@ -116,8 +118,30 @@ void requireIntegrator(const Solver& solver, Integrator integrator) {
                               implicit + ")");
 }
 
+void requireErrorControl(const Solver& solver, const SolverSettings& settings) {
+  if (settings.error_tolerance <= 0.0 || solverEntry(solver.name()).capabilities.tolerance) return;
+  std::string able;
+  for (const SolverEntry& entry : solverRegistry()) {
+    if (entry.capabilities.tolerance) able += (able.empty() ? "" : ", ") + std::string(entry.name);
+  }
+  throw std::invalid_argument(
+      std::string("solver.error_tolerance > 0 (error control) is not supported by ") +
+      solver.name() + ", which does not iterate to a tolerance (solvers that do: " + able +
+      "); set solver.error_tolerance: 0 and a number of solver.substeps");
+}
+
 void Solver::requireSettings(const SolverSettings& settings) const {
   requireIntegrator(*this, settings.integrator);
+  requireErrorControl(*this, settings);
+}
+
+double IterationError::add(double change) {
+  double rate = 0.5;
+  if (last_change_ > 0.0) rate = std::min(kMaxRate, change / last_change_);
+  else if (last_change_ == 0.0) rate = 0.0;
+  last_change_ = change;
+  estimate_ = change * rate / (1.0 - rate);
+  return estimate_;
 }
 
 void SolverSettings::validate() const {
@@ -125,6 +149,11 @@ void SolverSettings::validate() const {
   settings::kSubsteps.require(substeps);
   settings::kThreads.require(threads);
   settings::kTolerance.require(tolerance);
+  settings::kErrorTolerance.require(error_tolerance);
+  if (substeps == 0 && error_tolerance <= 0.0) {
+    throw std::invalid_argument(
+        "solver.substeps 0 (chosen by the error estimate) needs solver.error_tolerance > 0");
+  }
   params.validate();
 }
 

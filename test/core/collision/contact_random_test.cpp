@@ -84,13 +84,22 @@ std::string envString(const char* name, const std::string& fallback) {
 }
 
 struct Config {
-  int substeps = 1;
+  int substeps = 1;  ///< 0: chosen by the error estimate (error_tolerance > 0)
   int iterations = 10;
   std::string solver = "local_global";
+  Integrator integrator = Integrator::kImplicitEuler;
+  double error_tolerance = 0.0;  ///< m per frame; 0: fixed iterations
   std::string describe() const {
     std::ostringstream s;
-    s << solver << ", n = " << substeps << " substeps (h = 1/" << std::lround(substeps / kFrame)
-      << "), " << iterations << " iterations per substep";
+    s << solver << "/" << integratorName(integrator) << ", ";
+    if (substeps == 0) s << "substeps by the error estimate";
+    else s << "n = " << substeps << " substeps (h = 1/" << std::lround(substeps / kFrame) << ")";
+    if (error_tolerance > 0.0) {
+      s << ", error tolerance " << error_tolerance << " m, at most " << iterations
+        << " iterations per substep";
+    } else {
+      s << ", " << iterations << " iterations per substep";
+    }
     return s.str();
   }
 };
@@ -277,25 +286,32 @@ Outcome runScene(const SceneParams& p, const Config& c) {
   SimulationOptions opt;
   opt.solver = c.solver;
   opt.settings.max_iterations = c.iterations;
-  opt.frame_time = kFrame / c.substeps;
+  opt.settings.integrator = c.integrator;
+  opt.settings.error_tolerance = c.error_tolerance;
+  // Fixed substeps run as frames of their own (the drag moves at each); automatic substeps in
+  // frames of 1/60 s, the drag's end-of-frame target reached linearly across them (FrameInputs).
+  const int steps_per_frame = std::max(1, c.substeps);
+  opt.settings.substeps = c.substeps == 0 ? 0 : 1;
+  opt.frame_time = kFrame / steps_per_frame;
   const Points rest = obj.rest_positions;
   Simulation sim(std::move(obj.model), rest, std::move(pins), std::move(colliders), opt);
 
   Outcome out;
   const int frames = static_cast<int>(std::lround(p.duration / kFrame));
   const double drag_time = 0.7 * p.duration;  // the edge moves at constant speed, then holds
-  const double h = kFrame / c.substeps;
+  const double h = kFrame / steps_per_frame;
   for (int f = 0; f < frames; ++f) {
-    for (int k = 0; k < c.substeps; ++k) {
+    for (int k = 0; k < steps_per_frame; ++k) {
       if (p.drag) {
-        const double t = (f * c.substeps + k + 1) * h;
+        const double t = (f * steps_per_frame + k + 1) * h;
         const double shift = p.drag_distance * std::min(1.0, t / drag_time);
         for (int col = 0; col < p.n; ++col) {
           const int v = gridVertex(0, col, p.n);
           sim.movePin(pin_ids[col], Vec3(rest.col(v)) + Vec3(0, shift, 0));
         }
       }
-      if (sim.step().status != StepStatus::kOk) ++out.rolled_back;
+      const StepReport rep = sim.step();
+      if (rep.status != StepStatus::kOk) ++out.rolled_back;
     }
   }
 
@@ -355,6 +371,8 @@ TEST(ContactRandom, ClothOnBallsBoxesAndGroundStaysOutsideAndUntorn) {
   c.substeps = envInt("CONTACT_RANDOM_SUBSTEPS", kDefaultSubsteps);
   c.iterations = envInt("CONTACT_RANDOM_ITERATIONS", kDefaultIterations);
   c.solver = envString("CONTACT_RANDOM_SOLVER", kDefaultSolver);
+  c.integrator = integratorFromName(envString("CONTACT_RANDOM_INTEGRATOR", "implicit_euler"));
+  c.error_tolerance = std::atof(envString("CONTACT_RANDOM_ERROR_TOLERANCE", "0").c_str());
   const int scenes = envInt("CONTACT_RANDOM_SCENES", kDefaultScenes);
   const unsigned seed = static_cast<unsigned>(envInt("CONTACT_RANDOM_SEED", kDefaultSeed));
   const bool report = envInt("CONTACT_RANDOM_REPORT", 0) != 0;
@@ -365,6 +383,7 @@ TEST(ContactRandom, ClothOnBallsBoxesAndGroundStaysOutsideAndUntorn) {
   ref.substeps = envInt("CONTACT_RANDOM_REF_SUBSTEPS", kRefSubsteps);
   ref.iterations = envInt("CONTACT_RANDOM_REF_ITERATIONS", kRefIterations);
   ref.solver = "local_global";
+  ref.integrator = integratorFromName(envString("CONTACT_RANDOM_REF_INTEGRATOR", "implicit_euler"));
   std::printf("seed %u, %d scenes, under test: %s; reference: %s\n", seed, scenes,
               c.describe().c_str(), ref.describe().c_str());
 
@@ -378,7 +397,8 @@ TEST(ContactRandom, ClothOnBallsBoxesAndGroundStaysOutsideAndUntorn) {
     const Outcome o = runScene(p, c);
     // Deterministic: the reference configuration is its own reference (no second run).
     const bool same = c.substeps == ref.substeps && c.iterations == ref.iterations &&
-                      c.solver == ref.solver;
+                      c.solver == ref.solver && c.integrator == ref.integrator &&
+                      c.error_tolerance == ref.error_tolerance;
     const Outcome r = same ? o : runScene(p, ref);
     time_test += o.seconds;
     if (!same) time_ref += r.seconds;

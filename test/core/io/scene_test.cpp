@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "cloth_sim/core/io/scene.h"
+#include "cloth_sim/core/io/scene_builder.h"
 #include "cloth_sim/core/solvers/registry.h"
 #include "test_util.h"
 
@@ -81,8 +82,43 @@ TEST(Scene, MinimalSceneHasDocumentedDefaults) {
   EXPECT_FALSE(s.grid.material.has_shear);
   EXPECT_FALSE(s.grid.material.has_bending);
   EXPECT_EQ(s.options.solver, "local_global");
-  EXPECT_EQ(s.options.settings.substeps, 8);
-  EXPECT_EQ(s.options.settings.max_iterations, 2);
+  // Solver fields it does not give are chosen for its solver when it is built: error control.
+  EXPECT_FALSE(s.given.substeps || s.given.iterations || s.given.integrator ||
+               s.given.error_tolerance);
+  const SolverSettings built = resolveSolverDefaults(s, 2.0);
+  EXPECT_EQ(built.substeps, 0);
+  EXPECT_EQ(built.integrator, Integrator::kBdf2);
+  EXPECT_EQ(built.max_iterations, kDefaultIterationCap);
+  EXPECT_DOUBLE_EQ(built.error_tolerance, 2.0 * kDefaultRelativeErrorTolerance);
+  // A solver without a convergence test keeps fixed substeps and iterations.
+  SceneConfig explicit_scene = s;
+  explicit_scene.options.solver = "verlet";
+  const SolverSettings fixed = resolveSolverDefaults(explicit_scene, 2.0);
+  EXPECT_EQ(fixed.substeps, 8);
+  EXPECT_EQ(fixed.max_iterations, 2);
+  EXPECT_EQ(fixed.error_tolerance, 0.0);
+  // A scene that fixes its iterations or substeps keeps a fixed configuration ...
+  const SceneConfig counted = parseScene(
+      "solver: {substeps: 4}\ncloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\n"
+      "material: {springs: {shear: 1}}", "counted");
+  const SolverSettings kept = resolveSolverDefaults(counted, 2.0);
+  EXPECT_EQ(kept.substeps, 4);
+  EXPECT_EQ(kept.max_iterations, 2);
+  EXPECT_EQ(kept.integrator, Integrator::kImplicitEuler);
+  EXPECT_EQ(kept.error_tolerance, 0.0);
+  // ... substeps 0 asks for error control ...
+  SceneConfig automatic = counted;
+  automatic.options.settings.substeps = 0;
+  EXPECT_DOUBLE_EQ(resolveSolverDefaults(automatic, 2.0).error_tolerance,
+                   2.0 * kDefaultRelativeErrorTolerance);
+  // ... and error_tolerance 0 means fixed substeps and iterations too.
+  const SceneConfig fixed_scene = parseScene(
+      "solver: {error_tolerance: 0, iterations: 5}\ncloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\n"
+      "material: {springs: {shear: 1}}", "fixed");
+  const SolverSettings given = resolveSolverDefaults(fixed_scene, 2.0);
+  EXPECT_EQ(given.substeps, 8);
+  EXPECT_EQ(given.max_iterations, 5);
+  EXPECT_EQ(given.error_tolerance, 0.0);
   EXPECT_EQ(s.gravity, Vec3(0, 0, -9.81));
   EXPECT_EQ(s.damping, 0.0);
   EXPECT_TRUE(s.pins.empty());
@@ -180,8 +216,8 @@ TEST(Scene, MalformedScenesAreRefusedNamingTheField) {
       {"solver: {name: " + std::string(100000, 'x') + "}\ncloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}",
        "solver.name", "... (100000 characters)' is too long for a name"},
       {"cloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}", "material", "is required"},
-      {"solver: {substeps: 0}\ncloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}",
-       "solver.substeps", "[1, 1000]"},
+      {"solver: {substeps: -1}\ncloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}",
+       "solver.substeps", "[0, 1000]"},
       // YAML keys are unique: the second value was dropped without a word.
       {"time_step: 1/60\ncloth:\n  grid: {rows: 3, cols: 3, size: [1, 1]}\nmaterial: {springs: {shear: 1}}\ntime_step: 1/30",
        "time_step", "given twice (lines 1 and 5)"},

@@ -15,6 +15,7 @@ Simulation sceneWithSolver(const std::string& scene, const std::string& solver) 
   // The figures below are for one implicit Euler step of 10 iterations a frame (the core's
   // SolverSettings), whatever configuration the shipped scene defaults to.
   config.options.settings = SolverSettings{};
+  config.given = SolverFieldsGiven{true, true, true, true};  // not the error-controlled default
   return makeSimulation(config);
 }
 

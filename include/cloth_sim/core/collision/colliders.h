@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "cloth_sim/core/collision/body_collider.h"
 #include "cloth_sim/core/collision/mesh_obstacle.h"
 #include "cloth_sim/core/linalg/types.h"
 
@@ -67,16 +68,24 @@ class Colliders {
   void addMesh(std::shared_ptr<const MeshObstacle> mesh);
   const std::vector<std::shared_ptr<const MeshObstacle>>& meshes() const { return meshes_; }
 
+  /// The rigid bodies (spheres, capsules, boxes, meshes; still or on a moving frame).
+  const BodySet& bodies() const { return bodies_; }
+  /// The same, to add, remove, move or place bodies (Simulation's body edits go through it).
+  BodySet& mutableBodies() { return bodies_; }
+
   /// Moves the spheres over one step: a kinematic one by velocity * h; a dynamic one by
   /// symplectic Euler under @p gravity and the model's drag (v <- @p decay v + g h, spin
   /// <- decay spin, then centre += v h), decay = exp(-damping h) as for the cloth.
   void advance(double h, const Vec3& gravity = Vec3::Zero(), double decay = 1.0);
-  bool empty() const { return spheres_.empty() && meshes_.empty() && !ground_.enabled; }
+  bool empty() const {
+    return spheres_.empty() && meshes_.empty() && bodies_.empty() && !ground_.enabled;
+  }
 
  private:
   std::vector<SphereCollider> spheres_;
   std::vector<std::shared_ptr<const MeshObstacle>> meshes_;
   GroundPlane ground_;
+  BodySet bodies_;
   int next_id_ = 0;
 };
 
@@ -92,6 +101,16 @@ struct CollisionStep {
   /// normal correction.
   const Points* velocities = nullptr;
   Vec3 gravity = Vec3::Zero();       ///< m/s^2, with velocities
+  /// s, the implicit step h_i of the step's integrator (StepRecurrence): its end velocity
+  /// changes by 1 / h_i per metre its end position moves (implicit Euler h, BDF2 2h/3, implicit
+  /// midpoint h/2), so a correction after the solve keeps the velocity the integrator's own.
+  /// 0: h.
+  double implicit_h = 0.0;
+  /// 1 / h_i (1/s): the velocity change per unit of end-position correction.
+  double velocityGain() const { return 1.0 / (implicit_h > 0.0 ? implicit_h : h); }
+  /// The state's v_n (State::previous_velocities) of a multistep integrator (BDF2), or null: a
+  /// contact restarts it along its normal (see resolveCollisions).
+  Points* history_velocities = nullptr;
   /// Displacement (m) particle @p i would make over the step without internal or contact
   /// forces, h v + h^2 g; null without velocities.
   std::optional<Vec3> freeMotion(Eigen::Index i) const {

@@ -83,10 +83,30 @@ class ContactForces {
   /// The loops' blocks are fixed, so the results do not depend on it.
   void setThreads(int threads) { threads_ = threads; }
 
+  /// Friction of the still contacts (ground, mesh obstacles) completed after the solve, one
+  /// full projected Jacobi step on the positions the iterations reached (@p positions, 3 x N,
+  /// particle order): a contact whose friction can cancel what is left of its slip within the
+  /// cone mu lambda sticks (that slip is taken out of its end position), the others slide with
+  /// the friction mu lambda against it; each velocity changes by its position's change / h_i.
+  /// So a cloth at rest inside the friction cone does not creep and one outside slides at
+  /// g_t - mu g_n. Only with @p stick: the test weighs the slip the iterations left against the
+  /// friction they reached, which after a fixed handful of iterations is far from the solution
+  /// (a cloth dragged over a box stuck to its top and stretched 300 %); Simulation asks for it
+  /// when the iterations stop at a tolerance (SolverInput::iteration_tolerance > 0). Returns
+  /// the contacts that stuck.
+  /// Under a multistep integrator (BDF2: h_i < h) every pushing still contact also restarts its
+  /// particle's velocity along the normal, and that of @p history_velocities (State::
+  /// previous_velocities, or null), as resolveCollisions does: contacts are inelastic.
+  int completeFriction(Points& positions, Points& velocities, Points* history_velocities,
+                       bool stick) const;
+
   bool empty() const { return contacts_.empty(); }
   /// Contacts of this step that push (lambda > 0): a contact point on a triangle, an edge or a
   /// vertex (spheres) or a particle (ground, mesh obstacles).
   int activeCount() const;
+  /// Sets @p mask[i] (one per particle) for every particle an active contact of this step
+  /// touches.
+  void markTouched(std::vector<char>& mask) const;
 
  private:
   struct Contact {
@@ -175,7 +195,13 @@ class ContactForces {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(source)) << 32) |
            static_cast<std::uint32_t>(vertex);
   }
-  std::unordered_map<std::uint64_t, double> vertex_force_;  ///< forceKey(source, vertex) -> N
+  /// Last step's force on a vertex from one source: normal (N) and, for still contacts,
+  /// friction (N, tangential), the warm start of the next step.
+  struct Force {
+    double normal = 0.0;
+    Vec3 friction = Vec3::Zero();
+  };
+  std::unordered_map<std::uint64_t, Force> vertex_force_;  ///< forceKey(source, vertex) -> force
 };
 
 }  // namespace cloth_sim

@@ -28,7 +28,10 @@ class MeshObstacle {
   /// minus Coulomb friction. Friction presses with frictionLoad(correction, normal,
   /// @p free_motion) (the particle's free motion h v + h^2 g, when known). Returns true if
   /// @p end changed.
-  bool collide(const Vec3& start, Vec3& end, const std::optional<Vec3>& free_motion = std::nullopt) const;
+  /// @p normal, when given, gets the unit normal of the last correction (from the mesh to the
+  /// particle).
+  bool collide(const Vec3& start, Vec3& end, const std::optional<Vec3>& free_motion = std::nullopt,
+               Vec3* normal = nullptr) const;
 
   /// The mesh point @p point nearest to @p p among the triangles within @p reach (m) of it, and
   /// the unit direction @p normal from that point to @p p (a face normal, or radial round an

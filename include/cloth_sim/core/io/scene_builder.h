@@ -27,6 +27,19 @@ BuiltObject buildCloth(const SceneConfig& scene);
 /// index out of range, an empty region or a vertex pinned twice by single-vertex entries.
 std::vector<PinSpec> resolvePins(const SceneConfig& scene, const Points& rest);
 
+/// The solver settings of @p scene with the fields it did not give (SceneConfig::given) chosen
+/// for its solver, @p size (m) the cloth's size (diagonal of its bounding box at rest):
+///  - a scene that gives none of substeps, iterations and error_tolerance, with a solver that
+///    iterates to a tolerance (its registry entry's capabilities), gets error control: a
+///    tolerance of kDefaultRelativeErrorTolerance x size, substeps chosen by the error estimate
+///    (0), iterations capped at kDefaultIterationCap, BDF2 unless it names an integrator;
+///  - a scene that gives error_tolerance > 0 or substeps 0 gets the same for the fields it
+///    leaves out;
+///  - otherwise (substeps or iterations given, error_tolerance 0, or a solver without a
+///    convergence test: explicit, xpbd) the configuration is fixed: implicit Euler's 8 substeps
+///    of 2 iterations (defaultSceneOptions()) where the scene does not say otherwise.
+SolverSettings resolveSolverDefaults(const SceneConfig& scene, double size);
+
 /// Builds the simulation the scene describes (the cloth once). Throws SceneError.
 Simulation makeSimulation(const SceneConfig& scene);
 

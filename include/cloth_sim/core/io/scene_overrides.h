@@ -22,6 +22,7 @@ struct SceneOverrides {
   std::optional<int> iterations;                ///< SolverSettings::max_iterations
   std::optional<int> substeps;                  ///< SolverSettings::substeps
   std::optional<double> tolerance;              ///< SolverSettings::tolerance
+  std::optional<double> error_tolerance;        ///< m, SolverSettings::error_tolerance
   std::optional<LinearSolver> linear_solver;    ///< SolverSettings::linear_solver
   std::optional<double> time_step;              ///< s
   std::optional<bool> warm_start;               ///< SolverSettings::warm_start

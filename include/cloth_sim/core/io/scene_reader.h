@@ -49,12 +49,26 @@ struct MeshColliderSpec {
   std::shared_ptr<const MeshObstacle> obstacle;  ///< world frame, thickness and friction set
 };
 
-/// What a scene gets when it does not say: local_global, implicit Euler, 8 substeps of
-/// 2 iterations per frame: the cheapest configuration measured to pass the randomized contact
-/// test (no particle in a collider, no spring through one, strain within 2x of a small-step
-/// reference; test/core/collision/contact_random_test.cpp), and 3.6-4.2x closer to the true
-/// motion than one step of 10 iterations for 1.2-1.4x its cost (hanging at 32 and 64 particles
-/// a side, RMS error at 1 s; docs/benchmark.md, "Accuracy against the true motion").
+/// The solver fields a scene (or a caller's SceneOverrides) set. The others take the defaults
+/// of the solver in use when the simulation is built (resolveSolverDefaults).
+struct SolverFieldsGiven {
+  bool integrator = false;       ///< solver.integrator
+  bool iterations = false;       ///< solver.iterations
+  bool substeps = false;         ///< solver.substeps
+  bool error_tolerance = false;  ///< solver.error_tolerance
+};
+
+/// Default error tolerance of a scene, as a share of the cloth's size (the diagonal of its
+/// bounding box at rest): 1e-5 x the diagonal per frame. Chosen from the accuracy benchmark
+/// (docs/benchmark.md, "Error control"): on the untuned scenes it keeps the RMS error at 1 s
+/// against the true motion near 1 % of the size.
+inline constexpr double kDefaultRelativeErrorTolerance = 1e-5;
+/// Default cap on the iterations of one implicit step under error control: the tolerance
+/// stops them, the cap only bounds a step that cannot reach it.
+inline constexpr int kDefaultIterationCap = 100;
+
+/// What a scene gets before resolveSolverDefaults: local_global; the fields it does not give
+/// are then chosen for the solver in use.
 inline SimulationOptions defaultSceneOptions() {
   SimulationOptions options;
   options.settings.substeps = 8;
@@ -75,9 +89,13 @@ struct SceneConfig {
   Vec3 gravity = standardGravity();
   double damping = 0.0;     ///< 1/s, Model::damping
   SimulationOptions options = defaultSceneOptions();
+  SolverFieldsGiven given;  ///< which of options.settings' solver fields the scene set
   std::vector<PinSelector> pins;  ///< in scene order
   std::vector<SphereCollider> spheres;
   std::vector<MeshColliderSpec> meshes;
+  /// colliders.bodies[]: still ones placed, ones on a frame named (BodyCollider::name) with
+  /// their origin in it (scene_bodies.h).
+  std::vector<BodyCollider> bodies;
   GroundPlane ground;       ///< disabled unless the scene has colliders.ground
 };
 

@@ -72,12 +72,14 @@ struct State {
   Points positions;   ///< m
   Points velocities;  ///< m/s
   double time = 0.0;  ///< s of simulated time
-  /// The state one step before (x_{n-1}, v_{n-1}), written by every implicit step for
-  /// Integrator::kBdf2. Valid only when has_previous: false at the start, and cleared by
-  /// Simulation on reset, rollback, a pin-set change or a new step size (then the next step is
-  /// an implicit Euler step). The explicit solvers clear it too.
+  /// The state one step before (x_{n-1}, v_{n-1}) and that step's size, written by every
+  /// implicit step for Integrator::kBdf2 (and the error estimate). Valid only when has_previous:
+  /// false at the start, and cleared by Simulation on reset, rollback or a pin-set change (then
+  /// the next step is an implicit Euler step); a new step size keeps it (variable-step BDF2).
+  /// The explicit solvers clear it too.
   Points previous_positions;   ///< m
   Points previous_velocities;  ///< m/s
+  double previous_step = 0.0;  ///< s, h_{n-1}: from previous_positions to positions
   bool has_previous = false;
 
   /// A state at rest at @p rest_positions.

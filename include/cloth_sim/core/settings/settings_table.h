@@ -64,7 +64,8 @@ inline constexpr NameSetting kIntegrator{"solver.integrator", "integrator",
 // clang-format off
 //                                  name                         param                   range                              int    unit      note                 doc                                                   slider
 inline constexpr Setting kIterations{"solver.iterations",       "iterations",           Range::closed(1, 100000),           true,  "",       "",                  "Solver iterations per step (a cap for newton)",     0};
-inline constexpr Setting kSubsteps{"solver.substeps",           "substeps",             Range::closed(1, 1000),             true,  "",       "",                  "Implicit steps per frame (each time_step / substeps)", 0};
+inline constexpr Setting kSubsteps{"solver.substeps",           "substeps",             Range::closed(0, 1000),             true,  "",       "(0 = chosen by the error estimate)", "Implicit steps per frame (each time_step / substeps); 0: chosen to meet error_tolerance", 0};
+inline constexpr Setting kErrorTolerance{"solver.error_tolerance", "error_tolerance",   Range::closed(0, 1),                false, "m",      "(0 = fixed iterations)", "Position error a frame may make (RMS): iterations and substeps follow it", 0.01};
 inline constexpr Setting kThreads{"solver.threads",           "threads",              Range::closed(0, 1024),             true,  "",       "(0 = every core)",  "Threads of a frame's kernels; results are the same for any count", 0};
 inline constexpr Setting kTolerance{"solver.tolerance",         "",                     Range::atLeast(0),                  false, "",       "",                  "Stop below this relative position change (0 = never)", 0};
 inline constexpr Setting kTimeStep{"time_step",                 "",                     Range::closed(1e-6, 1),             false, "s",      "",                  "Time step h",                                        0};
@@ -79,6 +80,9 @@ inline constexpr Setting kRestLength{"spring.rest_length",      "",             
 inline constexpr Setting kGridResolution{"cloth.grid.rows",     "",                     Range::closed(2, 2000),             true,  "",       "",                  "Particles along each side of a grid cloth",          0};
 inline constexpr Setting kGridSize{"cloth.grid.size",           "",                     Range::closed(1e-3, 1e4),           false, "m",      "",                  "Width and height of a grid cloth",                   0};
 inline constexpr Setting kMeshScale{"scale",                    "",                     Range::closed(1e-6, 1e6),           false, "",       "",                  "Uniform scale of an OBJ file",                       0};
+inline constexpr Setting kBodySize{"collider.size",              "",                     Range{0, 1e6, true, false},         false, "m",      "",                  "A body collider's radius or box side",               0};
+inline constexpr Setting kCapsuleLength{"collider.length",        "",                     Range::closed(0, 1e6),              false, "m",      "(0 = a sphere)",    "Distance between a capsule's cap centres",           0};
+inline constexpr Setting kBodyMargin{"collider.margin",          "",                     Range{0, 1, true, false},           false, "m",      "",                  "Distance the cloth keeps from a body collider",      0};
 inline constexpr Setting kMeshThickness{"thickness",            "",                     Range{0, 1, true, false},           false, "m",      "",                  "Contact distance of a mesh obstacle",                0};
 inline constexpr Setting kPinStiffness{"pin.stiffness",         "stiffness",            Range::closed(0, 1e9),              false, "N/m",    "(0 = hard pin)",    "Stiffness of a soft pin",                            0};
 inline constexpr Setting kSphereRadius{"sphere.radius",         "radius",               Range{0, 1e6, true, false},         false, "m",      "",                  "Radius of a sphere collider",                        0};
@@ -91,6 +95,7 @@ inline constexpr Setting kGraspRadius{"grasp.radius",          "",              
 inline constexpr Setting kRealTimeFactor{"real_time_factor",    "real_time_factor",     Range::closed(0, 1000),             false, "",       "(0 = as fast as possible)", "Simulated seconds per wall-clock second",     0};
 inline constexpr Setting kGraspFrameTimeout{"grasp_frame_timeout", "grasp_frame_timeout", Range::above(0),                  false, "s",      "",                  "A grasp frame whose latest transform is older is stale", 0};
 inline constexpr Setting kFrameBudget{"budget_ms",              "budget_ms",            Range::closed(0, 1000),             false, "ms",     "(0 = off)",         "Wall-clock budget of a frame: the substeps adapt to fit it (0 = off)", 100};
+inline constexpr Setting kTfBufferDuration{"tf_buffer_duration", "tf_buffer_duration", Range::closed(1, 3600),     false, "s",      "",                  "History kept by the node's tf buffer (a trajectory published ahead must fit in it)", 0};
 inline constexpr Setting kForceArrowScale{"force_arrow_scale",  "force_arrow_scale",    Range::atLeast(0),                  false, "m/N",    "",                  "Length of a grasp's force arrow per newton",        0};
 // The node's own parameters (src/node/options.cpp): drawing, pacing and recovery.
 inline constexpr Setting kRenderRate{"render_rate",             "render_rate",          Range{0, 1000, true, false},        false, "Hz",     "",                  "Rate of cloth/markers (independent of the step rate)", 0};
@@ -107,21 +112,23 @@ inline constexpr Setting kFoldTime{"fold",                      "",             
 // Where things may be, and how hard gravity may pull: a coordinate within 1000 km of the origin
 // keeps a double's resolution under 1e-9 m there, so rest lengths and contacts stay exact.
 inline constexpr Setting kCoordinate{"position",                "",                     Range::closed(-1e6, 1e6),           false, "m",      "",                  "Any coordinate of a scene (positions, centres, targets, corners, ground height)", 0};
+inline constexpr Setting kSimTime{"sim_time",                   "",                     Range::closed(0, 1e9),              false, "s",      "",                  "Simulated time of a state",                          0};
 inline constexpr Setting kGravity{"gravity",                    "",                     Range::closed(-1e3, 1e3),           false, "m/s^2",  "(per axis)",        "Gravity, each component",                            0};
 
 /// Every setting above, in that order (a solver's own settings are in its registry entry).
 inline constexpr const Setting* kAllSettings[] = {
-    &kIterations, &kSubsteps, &kThreads, &kTolerance, &kTimeStep,
+    &kIterations, &kSubsteps, &kErrorTolerance, &kThreads, &kTolerance, &kTimeStep,
     &kDivergenceStrain, &kArealDensity, &kDamping,
     &kStructuralStiffness, &kShearStiffness, &kBendingStiffness, &kParticleMass,
     &kRestLength, &kGridResolution, &kGridSize, &kMeshScale,
+    &kBodySize, &kCapsuleLength, &kBodyMargin,
     &kMeshThickness, &kPinStiffness, &kSphereRadius, &kSphereMass,
     &kRestitution, &kFriction, &kSelfThickness, &kSelfFriction,
     &kGraspRadius, &kRealTimeFactor, &kGraspFrameTimeout, &kFrameBudget,
-    &kForceArrowScale, &kRenderRate, &kMarkerBandwidth, &kMaxRollbacks,
+    &kTfBufferDuration, &kForceArrowScale, &kRenderRate, &kMarkerBandwidth, &kMaxRollbacks,
     &kStrainColorScale, &kSphereCullDistance, &kMaxInteractivePins, &kSummaryPeriod,
     &kRunDuration, &kRunFrames, &kFoldTime, &kCoordinate,
-    &kGravity};
+    &kSimTime, &kGravity};
 // clang-format on
 }  // namespace settings
 

@@ -38,6 +38,8 @@ class GraspSet {
 
   /// The function asked, at each substep, where each grasp's frame is (empty: frames stay put).
   void setPoseSource(GraspPoseSource source) { pose_source_ = std::move(source); }
+  /// The pose source set by setPoseSource (empty if none).
+  const GraspPoseSource& poseSource() const { return pose_source_; }
   /// Each grasp's frame at simulated time @p time (s), from the pose source (an answer that is
   /// not finite keeps the last pose), and its pins' targets there, written into @p pins and, if
   /// given, @p pins_at (the substep's copy of the pins).

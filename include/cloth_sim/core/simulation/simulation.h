@@ -16,6 +16,7 @@
 #include "cloth_sim/core/simulation/grasp.h"
 #include "cloth_sim/core/simulation/grasp_set.h"
 #include "cloth_sim/core/simulation/step_report.h"
+#include "cloth_sim/core/simulation/step_controller.h"
 #include "cloth_sim/core/simulation/substep.h"
 #include "cloth_sim/core/solvers/midpoint_safeguard.h"
 #include "cloth_sim/core/solvers/solver.h"
@@ -39,6 +40,30 @@ struct SimulationOptions {
 
   /// Throws std::invalid_argument naming the bad field (unknown solver, bad settings, ...).
   void validate() const;
+};
+
+/// A copy of every member of Simulation that carries over from one frame to the next
+/// (Simulation::snapshot, Simulation::restore): restoring one and stepping gives the states of
+/// the run it was taken from, bit for bit. What is not here is derived from what is (the movable
+/// mask, the self-contact's rest data, the shortest rest length) or is not physics (the
+/// factorization counter; the pose sources stay the simulation's own). The test
+/// simulation/snapshot_test steps on after a restore and compares bit for bit on scenes with
+/// contacts (spheres, balls, ground, meshes, bodies on frames), grasps, BDF2, warm start and
+/// self-contact: a member added to Simulation and forgotten here fails it.
+struct SimulationSnapshot {
+  Model model;                  ///< stiffness and damping can change at run time
+  State state;                  ///< positions, velocities, time and BDF2's previous step
+  PinSet pins;                  ///< the pins with their targets (the grasps' included)
+  Colliders colliders;          ///< spheres (velocities, spins), ground, meshes, bodies' poses
+  SimulationOptions options;    ///< solver, its settings, frame time, self-contact
+  FrameInputs inputs;           ///< where each pin target stood, pending sphere moves
+  GraspSet grasps;              ///< held particles, their frame poses and wrenches
+  SubstepPipeline substep;      ///< the contact forces' warm start
+  std::vector<Vec3> pin_loads;  ///< N, the last substep's loads (the wrenches)
+  /// The solver's warm start (Solver::carriedOver).
+  SolverCarry solver_carry;
+  int substeps = 0;                             ///< of the next frame (error control)
+  StepController controller{1.0, 1, 1, 1};      ///< its calm frames towards a rung down
 };
 
 /// A mass-spring object with its pins and colliders, advanced one frame at a time.
@@ -75,6 +100,20 @@ class Simulation {
   /// its particle's initial position is moved there across the next frame's substeps.
   void resetCloth();
 
+  // --- snapshots ------------------------------------------------------------------------------
+  /// Everything the next frame depends on (SimulationSnapshot).
+  SimulationSnapshot snapshot() const;
+  /// Back to @p snapshot (of this simulation or one built from the same scene: the same
+  /// particle count, else std::invalid_argument and nothing changes). The next frames are those
+  /// that followed the snapshot, bit for bit, given the same inputs (pose sources). The solver
+  /// is made afresh and given the snapshot's warm start.
+  void restore(const SimulationSnapshot& snapshot);
+  /// Sets the particles' positions (m) and velocities (m/s), 3 x particleCount() each and
+  /// finite, and the simulated time (s, finite and >= 0). BDF2's history and the contact warm
+  /// start are forgotten (they belonged to the old state); pins, grasps and colliders stay.
+  /// Throws std::invalid_argument naming the field, changing nothing.
+  void setState(const Points& positions, const Points& velocities, double time);
+
   // --- run-time edits -------------------------------------------------------------------------
   /// Pins @p vertex at @p target (N/m stiffness, 0 = hard); returns the pin id.
   int addPin(int vertex, const Vec3& target, double stiffness = 0.0);
@@ -104,6 +143,18 @@ class Simulation {
   /// across the next frame's substeps, sweeping the cloth (FrameInputs::moveSphere).
   void moveSphere(int id, const Vec3& center, const Vec3& velocity);
   void setGround(const GroundPlane& ground) { colliders_.setGround(ground); }
+  /// Adds a rigid body (BodySet::add: a sphere, capsule, box or mesh, still or following a
+  /// frame); returns its id. Throws std::invalid_argument naming the bad field.
+  int addBody(const BodyCollider& body) { return colliders_.mutableBodies().add(body); }
+  /// Removes body @p id; throws std::invalid_argument for an unknown id.
+  void removeBody(int id) { colliders_.mutableBodies().remove(id); }
+  /// Puts body @p id's frame at @p frame_pose (simulation frame) now.
+  void setBodyPose(int id, const Pose& frame_pose) {
+    colliders_.mutableBodies().setFramePose(id, frame_pose);
+  }
+  /// The function asked, at each substep, where each body that follows a frame is (empty: they
+  /// stay where they are).
+  void setBodyPoseSource(BodyPoseSource source) { body_pose_source_ = std::move(source); }
   void setFamilyStiffness(SpringFamily family, double stiffness);
   /// Damping rate (1/s), see Model::damping. Does not refactor.
   void setDamping(double damping);
@@ -124,8 +175,23 @@ class Simulation {
   /// s of simulated time one step() advances: the scene's time_step
   /// (SimulationOptions::frame_time).
   double frameTime() const { return options_.frame_time; }
-  /// s, the implicit step h of each substep: frameTime() / SolverSettings::substeps.
-  double substepTime() const { return options_.frame_time / options_.settings.substeps; }
+  /// Substeps of the next frame: SolverSettings::substeps, or with automatic substeps the error
+  /// controller's choice.
+  int substeps() const { return substeps_; }
+  /// s, the implicit step h of each substep of the next frame: frameTime() / substeps().
+  double substepTime() const { return options_.frame_time / substeps_; }
+  /// The most substeps a frame may take with automatic substeps (a frame budget sets it; at
+  /// most kMaxAutomaticSubsteps, at least 1). The reports say when the tolerance needs more.
+  void setSubstepLimit(int max_substeps) {
+    controller_.setMaxSubsteps(std::min(max_substeps, kMaxAutomaticSubsteps));
+  }
+  /// Automatic substeps: at most this many per frame...
+  static constexpr int kMaxAutomaticSubsteps = 128;
+  /// ... and this many at the first frame (the controller takes it from there).
+  static constexpr int kFirstAutomaticSubsteps = 8;
+  /// Share of a substep's part of the frame's error tolerance (error_tolerance / substeps) its
+  /// iterations may leave (SolverInput::iteration_tolerance); the rest is for truncation.
+  static constexpr double kIterationShare = 0.5;
   const State& state() const { return state_; }
   /// m, the positions the simulation started from (and reset() returns to).
   const Points& initialPositions() const { return initial_state_.positions; }
@@ -166,14 +232,15 @@ class Simulation {
   enum Change : unsigned {
     kPinSet = 1u << 0,      ///< pins added or removed, or their vertices or stiffness differ
     kStiffness = 1u << 1,   ///< a spring family's stiffness
-    kStepSize = 1u << 2,    ///< the implicit step h (frame time or substeps)
+    kControl = 1u << 2,     ///< the substeps or the error tolerance (SolverSettings)
     kIntegrator = 1u << 3,  ///< SolverSettings::integrator: another matrix
     kRestart = 1u << 4,     ///< the state was put back (rollback, reset, resetCloth)
   };
   /// Decides from @p changes (Change bits) what follows an edit: a new revision (pin set,
-  /// stiffness, step size, integrator), no BDF2 history (pin set: a new pin's particle has none
-  /// on its target; step size: the history is for the old step; restart), the movable mask
-  /// (pin set) and zero pin loads (pin set, restart).
+  /// stiffness, integrator), no BDF2 history (pin set: a new pin's particle has none on its
+  /// target; restart), the movable mask (pin set), zero pin loads (pin set, restart), the
+  /// substeps in use and their controller (control). A new step size needs nothing: BDF2 takes
+  /// variable steps and the solvers keep a factor per step size.
   void changed(unsigned changes);
   /// Rolls the cloth and spheres back to @p state and @p colliders (zero velocities) and
   /// forgets the contact warm start that led there.
@@ -181,6 +248,7 @@ class Simulation {
   /// The parts of this simulation a substep works on.
   SubstepWorld substepWorld();
 
+  // Every member below that a frame carries over to the next is in SimulationSnapshot.
   Model model_;
   State state_, initial_state_;
   PinSet pins_, initial_pins_;
@@ -195,7 +263,10 @@ class Simulation {
   double shortest_rest_length_ = 0.0;                   ///< m, of all springs (maxPinMove)
   FrameInputs inputs_;
   GraspSet grasps_;
+  BodyPoseSource body_pose_source_;
   SubstepPipeline substep_;
+  int substeps_ = 0;                     ///< of the next frame, see substeps()
+  StepController controller_{1.0, 1, 1, 1};  ///< automatic substeps (set up by changed)
   std::vector<Vec3> pin_loads_;  ///< N, see pinLoads()
 };
 

@@ -23,6 +23,18 @@ struct StepReport {
   StepStatus status = StepStatus::kOk;
   int substeps = 0;          ///< implicit steps taken in this frame (SolverSettings::substeps)
   int iterations = 0;        ///< solver iterations of the last substep (SolveResult)
+  int total_iterations = 0;  ///< solver iterations of all the frame's substeps
+  /// m: the largest estimated iteration error of the frame's substeps (SolveResult::
+  /// iteration_error; 0 without error control).
+  double iteration_error = 0.0;
+  /// m: the frame's estimated local truncation error, summed over its substeps
+  /// (localErrorEstimate; 0 without error control).
+  double error_estimate = 0.0;
+  /// m: the error a frame may make (SolverSettings::error_tolerance; 0: no error control).
+  double error_tolerance = 0.0;
+  /// The error tolerance needs more substeps than allowed (the maximum, or a frame budget):
+  /// the next frames run at the allowed maximum and their error is over the tolerance.
+  bool tolerance_unreachable = false;
   double convergence = 0.0;  ///< relative position change of the last iteration (last substep)
   bool converged = false;    ///< the solver tolerance was reached
   double solve_time = 0.0;   ///< s of wall time in the solver (all substeps)

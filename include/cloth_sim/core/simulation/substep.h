@@ -52,20 +52,35 @@ struct SubstepWorld {
 /// substep.
 class SubstepPipeline {
  public:
-  /// One substep of @p h s with @p pins at @p revision (SolverInput); adds its substep,
-  /// iterations, convergence, solve time, contacts, self-contacts and midpoint fallback to
-  /// @p report.
+  /// One substep of @p h s with @p pins at @p revision (SolverInput), its iterations stopped at
+  /// an estimated iteration error of @p iteration_tolerance m (0: the settings' count); adds its
+  /// substep, iterations, convergence, iteration error, solve time, contacts, self-contacts and
+  /// midpoint fallback to @p report, and with @p estimate_error its local truncation error
+  /// (localErrorEstimate, m) to StepReport::error_estimate.
   void run(const SubstepWorld& world, const PinSet& pins, double h, std::uint64_t revision,
-           StepReport& report);
+           double iteration_tolerance, bool estimate_error, StepReport& report);
   /// Forgets the contact forces' warm start (a rollback or reset: it led there, or is stale).
-  void forgetContacts() { contacts_ = ContactForces(); }
+  void forgetContacts() {
+    contacts_ = ContactForces();
+    touched_.clear();
+    touched_before_.clear();
+  }
 
  private:
   /// The solver's step on @p input, its iterations and time added to @p report.
   SolveResult solve(const SubstepWorld& world, const SolverInput& input, StepReport& report);
 
+  /// The substep itself (run() adds the error estimate around it).
+  void collide(const SubstepWorld& world, const PinSet& pins, double h, std::uint64_t revision,
+               double iteration_tolerance, StepReport& report);
+
   ContactForces contacts_;  ///< in-solve contact forces, warm-started across substeps
   PinReactions reactions_;
+  Points older_velocities_;  ///< m/s, v_{n-1} of the substep being estimated
+  double older_step_ = 0.0;  ///< s, its step (0: no history)
+  /// Per particle: a contact touched it in this substep (touched_) or the one before
+  /// (touched_before_); both are left out of the error estimate.
+  std::vector<char> touched_, touched_before_;
 };
 
 }  // namespace cloth_sim

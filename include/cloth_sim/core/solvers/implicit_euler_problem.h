@@ -21,12 +21,18 @@ double velocityDecay(const Model& model, double h);
 ///   y = x_n + h exp(-gamma h) v_n,
 ///   E(x) = sum_springs 1/2 k (|x_i - x_j| - r)^2 + sum_soft_pins 1/2 k |x_v - t|^2 - sum_i m_i g.x_i.
 ///
-/// The BDF2 step (Integrator::kBdf2, docs/method.md "BDF2") has the same form with h^2 scaled
-/// by 4/9, i.e. with the implicit step h_i = 2h/3 in place of h, and an inertial prediction from
-/// the two last states, q = exp(-gamma h):
+/// The BDF2 step (Integrator::kBdf2, docs/method.md "BDF2") has the same form with the
+/// implicit step h_i = beta in place of h and an inertial prediction from the two last states
+/// (StepRecurrence). For a step h after a step h_p (omega = h / h_p; variable-step BDF2):
 ///
-///   y = (4 x_n - x_{n-1}) / 3 + (2h/9) (4 q v_n - q^2 v_{n-1}),
-///   v_{n+1} = (3 x_{n+1} - 4 x_n + x_{n-1}) / (2h).
+///   a1 = (1 + omega)^2 / (1 + 2 omega),  a0 = omega^2 / (1 + 2 omega),
+///   beta = h (1 + omega) / (1 + 2 omega),
+///   y = a1 x_n - a0 x_{n-1} + beta (a1 q v_n - a0 q q_p v_{n-1}),
+///   v_{n+1} = (x_{n+1} - a1 x_n + a0 x_{n-1}) / beta,
+///
+/// q = exp(-gamma h), q_p = exp(-gamma h_p) (each past velocity decays by its age). At a
+/// constant step (omega = 1): y = (4 x_n - x_{n-1}) / 3 + (2h/9) (4 q v_n - q^2 v_{n-1}),
+/// v_{n+1} = (3 x_{n+1} - 4 x_n + x_{n-1}) / (2h), h_i = 2h/3.
 ///
 /// Without a valid previous state (State::has_previous) it is an implicit Euler step.
 ///
@@ -43,6 +49,52 @@ double velocityDecay(const Model& model, double h);
 ///
 /// Hard-pinned particles are not unknowns: they sit on their targets in @c inertial and in every
 /// iterate. g is in kg m^2 (energy times h_i^2).
+/// The linear recurrence of one implicit step of @p h s from a state (docs/method.md, "BDF2"):
+/// the inertial prediction y = cx x_n + cxp x_{n-1} + cv v_n + cvp v_{n-1}, the implicit step h_i
+/// of g's h_i^2 E(x) term and of the matrix M + h_i^2 L, and (implicit Euler, BDF2) the end
+/// velocity v_{n+1} = (x_{n+1} - dx x_n - dxp x_{n-1}) / h_i. Implicit midpoint: y and h_i of its
+/// half step (ImplicitStepProblem::finish extrapolates). One place for the coefficients, shared
+/// by every implicit solver, the pin loads and the contacts.
+struct StepRecurrence {
+  bool bdf2 = false;      ///< a BDF2 step (needs State::has_previous)
+  bool midpoint = false;  ///< an implicit midpoint step (neither: implicit Euler)
+  /// A BDF2 step of the same size as the one before (omega = 1): computed as the constant-step
+  /// formulas are written above, so that a run at fixed substeps is the same to the bit.
+  bool constant = false;
+  double h = 0.0;         ///< s, the step
+  double implicit_h = 0.0;  ///< s, h_i
+  double cx = 1.0, cxp = 0.0, cv = 0.0, cvp = 0.0;  ///< weights of y (1, 1, s, s)
+  double dx = 1.0, dxp = 0.0;                       ///< weights of v_{n+1} (1, 1)
+  double decay = 1.0;  ///< exp(-gamma h) of a BDF2 step (Model::damping)
+
+  /// The recurrence of a step of @p h s with @p integrator from @p state, for a model damped
+  /// at @p damping 1/s (Model::damping). kBdf2 without a usable history is implicit Euler.
+  static StepRecurrence of(const State& state, double h, Integrator integrator, double damping);
+  /// y for particle column @p i of @p state.
+  Vec3 inertial(const State& state, Eigen::Index i) const;
+};
+
+/// The local truncation error of the implicit step that ended at @p after (m), estimated from
+/// the step itself and its history, per particle, as the RMS over the particles that are not
+/// hard pinned (their motion is prescribed). docs/method.md, "Error control". The step's start
+/// is after's history (previous_positions x_n, previous_velocities v_n, previous_step h);
+/// @p older_velocities is v_{n-1} and @p older_step its step h_p (0: no history).
+///  - implicit Euler: |x_{n+1} - x_n - h q v_n| / 2 (= h^2 |a| / 2, the distance the step's
+///    constant acceleration puts a particle beyond the exact quadratic);
+///  - BDF2 (variable step, omega = h / h_p): C(omega) h^3 |x'''|, C = (1 + omega)^2 /
+///    (6 omega (1 + 2 omega)) (2/9 at omega = 1), x''' from the second divided difference of
+///    v_{n-1}, v_n, v_{n+1};
+///  - implicit midpoint: h^3 |x'''| / 12, x''' as for BDF2;
+///  - without history (BDF2's first step is implicit Euler): implicit Euler's.
+/// 0 when @p after has no history (an explicit solver). @p integrator as configured; @p pins:
+/// the pins of the step (hard ones are left out). @p skip (empty, or one per particle):
+/// particles left out as well; Simulation leaves out those a contact touched in this step or
+/// the one before, whose velocity jumps there (an impact, a stop) and has no derivative to
+/// estimate: the error of contact is the contact model's, not the step size's.
+double localErrorEstimate(const Model& model, const PinSet& pins, const State& after,
+                          const Points& older_velocities, double older_step,
+                          Integrator integrator, const std::vector<char>& skip = {});
+
 struct ImplicitStepProblem {
   const Model* model = nullptr;
   const PinSet* pins = nullptr;
@@ -52,6 +104,7 @@ struct ImplicitStepProblem {
   double implicit_h = 0.0;
   bool bdf2 = false;         ///< a BDF2 step
   bool midpoint = false;     ///< an implicit midpoint step (neither: implicit Euler)
+  StepRecurrence recurrence; ///< y's and v_{n+1}'s weights
   Points start;              ///< x_n, m
   Points start_velocities;   ///< v_n, m/s (kept as the next step's history)
   Points previous;           ///< x_{n-1}, m (BDF2 only)

@@ -57,6 +57,9 @@ class MidpointSafeguard : public Solver {
   }
   /// The inner solver's factorizations.
   int factorizationCount() const override { return inner_->factorizationCount(); }
+  /// The inner solver's warm start.
+  SolverCarry carriedOver() const override { return inner_->carriedOver(); }
+  void carryOver(const SolverCarry& carry) override { inner_->carryOver(carry); }
 
   Solver& inner() { return *inner_; }
   const Solver& inner() const { return *inner_; }

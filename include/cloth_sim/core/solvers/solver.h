@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -129,6 +130,14 @@ struct SolverSettings {
   /// the same ImplicitStepProblem for it; the explicit baselines refuse kBdf2 and
   /// kImplicitMidpoint.
   Integrator integrator = Integrator::kImplicitEuler;
+  /// m: the position error a frame may make (RMS over the particles), read by Simulation. > 0
+  /// turns on error control: each step iterates until its estimated iteration error is under a
+  /// share of it (max_iterations is then a cap), and with substeps 0 the substeps follow the
+  /// estimated truncation error (docs/method.md, "Error control"). 0: fixed counts.
+  double error_tolerance = 0.0;
+
+  /// Whether the substeps are chosen by the error estimate (substeps 0, error_tolerance > 0).
+  bool automaticSubsteps() const { return substeps == 0; }
 
   /// Throws std::invalid_argument naming the first field out of its range
   /// ("solver.iterations 0 must be in [1, 100000]", Setting::refusal).
@@ -148,6 +157,28 @@ struct SolveResult {
   /// The step gained energy under implicit midpoint and was redone as two implicit Euler steps
   /// of h/2 (MidpointSafeguard; no bare solver sets it).
   bool midpoint_fallback = false;
+  /// m: the estimated distance of the returned positions to the step's exact solution, RMS over
+  /// the free particles (IterationError; docs/method.md, "Error control"); 0 for the explicit
+  /// solvers, which have nothing to converge.
+  double iteration_error = 0.0;
+};
+
+/// The iteration error of a linearly converging iteration, from its position changes: with the
+/// change d_k = RMS |x_{k+1} - x_k| (m) and the observed rate rho = d_k / d_{k-1}, the distance
+/// to the fixed point is about d_k rho / (1 - rho) (a geometric tail). rho is capped at kMaxRate
+/// (a slow or stalled iteration is not trusted to be nearly done) and taken as 1/2 at the first
+/// iteration.
+class IterationError {
+ public:
+  static constexpr double kMaxRate = 0.95;
+  /// Records the change of one more iteration (m); returns the estimate (m).
+  double add(double change);
+  /// The last estimate (m), infinity before the first change.
+  double estimate() const { return estimate_; }
+
+ private:
+  double last_change_ = -1.0;
+  double estimate_ = std::numeric_limits<double>::infinity();
 };
 
 class ContactForces;
@@ -161,6 +192,9 @@ struct SolverInput {
 
   const Model& model;
   const PinSet& pins;
+  /// m: stop iterating once SolveResult::iteration_error is at most this (0: run the settings'
+  /// iterations). Simulation sets it from SolverSettings::error_tolerance per substep.
+  double iteration_tolerance = 0.0;
   /// s, the step h the solver advances the state by: the frame time / substeps in Simulation
   /// (h/2 in the implicit midpoint safeguard's fallback). The model holds no step of its own.
   double h;
@@ -172,6 +206,14 @@ struct SolverInput {
   /// use them (lbfgs, newton, local_global_3n and the explicit solvers ignore them; Simulation
   /// then resolves contacts after the step).
   ContactForces* contacts = nullptr;
+};
+
+/// What a solver's step carries over to the next besides the State: its warm start, x - y of the
+/// last step (m, 3 x N in particle order; empty: none), valid for the implicit step it was made
+/// with (s, the h_i of ImplicitStepProblem; a step of another h_i starts cold).
+struct SolverCarry {
+  Points correction;        ///< m, x - y of the last step, 3 x N (empty: no warm start)
+  double implicit_h = 0.0;  ///< s, the h_i of the step it was made with
 };
 
 /// A time integrator for the mass-spring model. It moves @c state by one step of
@@ -194,6 +236,10 @@ class Solver {
   /// Sparse matrix factorizations done so far (numeric ones; Newton does one per iteration).
   /// Virtual for a wrapper (MidpointSafeguard), which counts its inner solver's.
   virtual int factorizationCount() const { return factorizations_; }
+  /// What a step carries over to the next besides the State (Simulation::snapshot).
+  virtual SolverCarry carriedOver() const { return SolverCarry(); }
+  /// Gives a fresh solver what carriedOver() returned.
+  virtual void carryOver(const SolverCarry& /*carry*/) {}
 
  protected:
   int factorizations_ = 0;
@@ -202,6 +248,10 @@ class Solver {
 /// Throws std::invalid_argument ("solver.integrator = bdf2 is not supported by verlet; ...")
 /// unless @p solver supports @p integrator.
 void requireIntegrator(const Solver& solver, Integrator integrator);
+
+/// Throws std::invalid_argument unless @p solver can honour @p settings' error control
+/// (SolverSettings::error_tolerance > 0 needs a solver that iterates to a tolerance).
+void requireErrorControl(const Solver& solver, const SolverSettings& settings);
 
 /// The names makeSolver accepts, from solverRegistry() (solvers/registry.h).
 std::vector<std::string> solverNames();

@@ -1,5 +1,7 @@
 #include "cloth_sim/core/solvers/baselines/local_global_3n_solver.h"
 
+#include <cmath>
+
 #include "cloth_sim/core/solvers/local_global/global_system.h"
 #include "cloth_sim/core/model/spring_kernels.h"
 
@@ -38,6 +40,7 @@ SolveResult LocalGlobal3nSolver::step(const SolverInput& in, const SolverSetting
   const int nf = dofs_.freeCount();
 
   Points x = problem.inertial, x_next = x, push_sum(3, x.cols());
+  IterationError error;
   SolveResult result;
   for (int k = 0; k < settings.max_iterations; ++k) {
     // Local step and J d, per particle.
@@ -59,12 +62,18 @@ SolveResult LocalGlobal3nSolver::step(const SolverInput& in, const SolverSetting
     result.iterations = k + 1;
     const double moved = (x_next - problem.inertial).norm();
     result.convergence = moved > 0.0 ? (x_next - x).norm() / moved : 0.0;
+    const double change = nf > 0 ? (x_next - x).norm() / std::sqrt(double(nf)) : 0.0;
     x = x_next;
+    if (in.iteration_tolerance > 0.0 && error.add(change) <= in.iteration_tolerance) {
+      result.converged = true;
+      break;
+    }
     if (settings.tolerance > 0.0 && result.convergence < settings.tolerance) {
       result.converged = true;
       break;
     }
   }
+  if (in.iteration_tolerance > 0.0) result.iteration_error = error.estimate();
   state = problem.finish(x, state.time);
   return result;
 }

@@ -43,6 +43,7 @@ void XpbdSolver::prepare(const SolverInput& in) {
 
 void XpbdSolver::requireSettings(const SolverSettings& settings) const {
   requireIntegrator(*this, settings.integrator);
+  requireErrorControl(*this, settings);
   if (settings.tolerance > 0.0) {
     std::ostringstream value;
     value << settings.tolerance;

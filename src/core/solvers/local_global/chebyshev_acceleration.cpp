@@ -25,7 +25,10 @@ double localGlobalRhoBound(const Model& model, double h) {
 void ChebyshevAcceleration::begin(const SolverInput& in, const SolverSettings& settings) {
   const double rho = settings.params.number(settings::kChebyshevRho);
   if (rho > 0.0) rho_ = rho;
-  else rho_cache_.ensure(in.revision, [&] { rho_ = localGlobalRhoBound(in.model, in.h); });
+  else {
+    rho_cache_.ensure(in.revision, LinearSolver::kFused, in.h,
+                      [&] { rho_ = localGlobalRhoBound(in.model, in.h); });
+  }
   gamma_ = settings.params.number(settings::kChebyshevGamma);
   delay_ = settings.params.integer(settings::kChebyshevDelay);
   threads_ = resolveThreads(settings.threads);

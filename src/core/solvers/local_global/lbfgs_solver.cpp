@@ -101,6 +101,7 @@ SolveResult LbfgsSolver::step(const SolverInput& in, const SolverSettings& setti
   hooks_.record(x.g);
   NodeBuffer p;
   int solves = 0;
+  IterationError error;
   SolveResult result;
   while (solves < settings.max_iterations) {
     direction(x.gradient, p);
@@ -123,15 +124,21 @@ SolveResult LbfgsSolver::step(const SolverInput& in, const SolverSettings& setti
     pushPair(x, next, settings.params.integer(settings::kLbfgsWindow));
     result.iterations = solves;
     result.convergence = relativeChange(next.x, x.x, start);
+    const double change = problem_.rmsDistance(next.x, x.x);
     std::swap(x, next);
     hooks_.record(x.g);
     if (!hooks_.observe(solves, x.x, problem_)) break;
+    if (in.iteration_tolerance > 0.0 && error.add(change) <= in.iteration_tolerance) {
+      result.converged = true;
+      break;
+    }
     if (settings.tolerance > 0.0 && result.convergence < settings.tolerance) {
       result.converged = true;
       break;
     }
   }
   result.iterations = solves;
+  if (in.iteration_tolerance > 0.0) result.iteration_error = error.estimate();
   problem_.finishStep(x.x, state);
   result.used_contacts = false;  // contacts are not solved here (see the class comment)
   return result;

@@ -14,10 +14,20 @@ SolveResult runLocalGlobal(LocalGlobalProblem& problem, Acceleration* accelerati
   bool accelerated = false;  // whether x came from an extrapolation
   int solves = 0;
   const int max_solves = settings.max_iterations;
+  const double tolerance = problem.iterationTolerance();
+  IterationError error;
   SolveResult result;
   while (solves < max_solves) {
     double g = problem.iterate(x, x_hat);
     ++solves;
+    // Error control: the plain iterate's change estimates the distance left to the solution.
+    if (tolerance > 0.0 && error.add(problem.rmsDistance(x_hat, x)) <= tolerance) {
+      x = x_hat;  // the plain iterate, which never raises g
+      accelerated = false;
+      result.converged = true;
+      hooks.observe(solves, x, problem);
+      break;
+    }
     if (accelerated && g > g_prev) {
       x = x_hat_prev;  // g(G(x_prev)) <= g_prev
       accelerated = false;
@@ -57,6 +67,7 @@ SolveResult runLocalGlobal(LocalGlobalProblem& problem, Acceleration* accelerati
     }
   }
   result.iterations = solves;
+  result.iteration_error = tolerance > 0.0 ? error.estimate() : 0.0;
   if (accelerated && problem.objectiveAt(x) > problem.objectiveAt(x_hat_prev)) x = x_hat_prev;
   if (hooks.tracing()) hooks.record(problem.objectiveAt(x));
   problem.finishStep(x, state);

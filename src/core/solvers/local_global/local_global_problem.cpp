@@ -1,6 +1,7 @@
 #include "cloth_sim/core/solvers/local_global/local_global_problem.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 #include <vector>
 
@@ -17,45 +18,74 @@ int LocalGlobalProblem::factorize(const SolverInput& in, LinearSolver backend, d
   const Model& model = in.model;
   const Springs& springs = model.springs;
   const double h2 = h * h;
-  dofs_ = FreeParticleMap::fromPins(model.particleCount(), in.pins);
-  const FreeParticleMap& dofs = dofs_;
+  f_->dofs = FreeParticleMap::fromPins(model.particleCount(), in.pins);
+  const FreeParticleMap& dofs = f_->dofs;
   const int nf = dofs.freeCount();
 
   const Eigen::SparseMatrix<double> a = globalStepMatrix(model, in.pins, dofs, h);
-  system_.factor(a, backend);
+  f_->system.factor(a, backend);
+  f_->system.setThreads(threads_);
   correction_.clear();  // node order and system changed
 
   // Node order: free particles in the system's order, then the hard-pinned ones.
-  free_count_ = nf;
+  f_->free_count = nf;
   const int n = model.particleCount();
-  node_particle_.clear();
-  for (int k = 0; k < nf; ++k) node_particle_.push_back(dofs.free_particles[system_.order()[k]]);
+  f_->node_particle.clear();
+  for (int k = 0; k < nf; ++k) f_->node_particle.push_back(dofs.free_particles[f_->system.order()[k]]);
   for (int p = 0; p < n; ++p) {
-    if (!dofs.isFree(p)) node_particle_.push_back(p);
+    if (!dofs.isFree(p)) f_->node_particle.push_back(p);
   }
-  particle_node_.assign(n, 0);
-  node_mass_.resize(n);
+  f_->particle_node.assign(n, 0);
+  f_->node_mass.resize(n);
   for (int k = 0; k < n; ++k) {
-    particle_node_[node_particle_[k]] = k;
-    node_mass_[k] = model.mass[node_particle_[k]];
+    f_->particle_node[f_->node_particle[k]] = k;
+    f_->node_mass[k] = model.mass[f_->node_particle[k]];
   }
   estimateCompliance(a);
   buildNodeMatrix(a);
 
-  springs_ = SpringTable{};
-  pinned_springs_ = SpringTable{};
+  f_->springs = SpringTable{};
+  f_->pinned_springs = SpringTable{};
   for (std::size_t s = 0; s < springs.size(); ++s) {
-    const int a = particle_node_[springs.first[s]], b = particle_node_[springs.second[s]];
+    const int a = f_->particle_node[springs.first[s]], b = f_->particle_node[springs.second[s]];
     const double k = springs.stiffness[s], r = springs.rest_length[s];
     if (a >= nf && b >= nf) {
-      pinned_springs_.add(a, b, 0.0, k, r);
+      f_->pinned_springs.add(a, b, 0.0, k, r);
       continue;
     }
-    springs_.add(a, b, h2 * k * r, k, r);
+    f_->springs.add(a, b, h2 * k * r, k, r);
   }
-  springs_.sortByNode();
-  springs_.partition(n);  // the local step's fixed blocks (threads)
+  f_->springs.sortByNode();
+  f_->springs.partition(n);  // the local step's fixed blocks (threads)
   return nf > 0 ? 1 : 0;
+}
+
+int LocalGlobalProblem::useFactor(const SolverInput& in, LinearSolver backend, double h) {
+  const auto same = [&](const std::unique_ptr<Factored>& f) {
+    return f->revision == in.revision && f->backend == backend && f->implicit_h == h;
+  };
+  const auto found = std::find_if(factors_.begin(), factors_.end(), same);
+  if (found != factors_.end()) {
+    std::rotate(found, found + 1, factors_.end());  // most recently used last
+    if (f_ != factors_.back().get()) correction_.clear();  // a warm start is for its own h_i
+    f_ = factors_.back().get();
+    return 0;
+  }
+  // Another revision (a stiffness, a mass, the pin set) invalidates every kept factor.
+  if (!factors_.empty() && factors_.back()->revision != in.revision) factors_.clear();
+  if (factors_.size() >= kKeptFactors) factors_.erase(factors_.begin());
+  factors_.push_back(std::make_unique<Factored>());
+  f_ = factors_.back().get();
+  f_->revision = in.revision;
+  f_->backend = backend;
+  f_->implicit_h = h;
+  try {
+    return factorize(in, backend, h);
+  } catch (...) {
+    factors_.pop_back();  // not built: never found again
+    f_ = nullptr;
+    throw;
+  }
 }
 
 int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& settings,
@@ -64,31 +94,38 @@ int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& setti
   threads_ = resolveThreads(settings.threads);
   problem_ = ImplicitStepProblem::build(model, in.pins, state, in.h, settings.integrator);
   h_ = problem_.implicit_h;
-  int factorizations = 0;
-  factor_cache_.ensure(in.revision, settings.linear_solver, h_, [&] {
-    factorizations = factorize(in, settings.linear_solver, h_);
-  });
-  system_.setThreads(threads_);
+  iteration_tolerance_ = in.iteration_tolerance;
+  const int factorizations = useFactor(in, settings.linear_solver, h_);
+  // Every kept factor solves on this step's threads, the ones made before too (the count may
+  // change between steps; the results do not depend on it).
+  for (const std::unique_ptr<Factored>& f : factors_) f->system.setThreads(threads_);
   gravity_ = model.gravity;
   const int n = model.particleCount();
+  const Points& carried = pending_correction_.correction;
+  if (carried.cols() == n && pending_correction_.implicit_h == h_) {  // restored, in node order
+    correction_.assign(static_cast<std::size_t>(kNodeStride) * n, 0.0);
+    for (int k = 0; k < n; ++k)
+      for (int c = 0; c < 3; ++c) correction_[kNodeStride * k + c] = carried(c, f_->node_particle[k]);
+  }
+  pending_correction_ = SolverCarry();
   const Points& y = problem_.inertial;
 
-  const Points constant = globalStepConstant(model, in.pins, dofs_, h_, y);
+  const Points constant = globalStepConstant(model, in.pins, f_->dofs, h_, y);
   inertial_.assign(static_cast<std::size_t>(kNodeStride) * n, 0.0);
   rhs_constant_.assign(inertial_.size(), 0.0);
   for (int k = 0; k < n; ++k) {
-    const int p = node_particle_[k];
+    const int p = f_->node_particle[k];
     for (int c = 0; c < 3; ++c) {
       inertial_[kNodeStride * k + c] = y(c, p);
       rhs_constant_[kNodeStride * k + c] = constant(c, p);
     }
   }
-  constant_energy_ = springEnergy3(pinned_springs_, inertial_.data());
+  constant_energy_ = springEnergy3(f_->pinned_springs, inertial_.data());
   // Implicit midpoint solves for x_half and extrapolates x_{n+1} = 2 x_half - x_n: a contact
   // force found at the midpoint would be doubled by the extrapolation, so contacts are left to
   // Simulation's projection after the step (SolveResult::used_contacts false).
   contacts_ = problem_.midpoint ? nullptr : in.contacts;
-  if (contacts_ != nullptr) contacts_->begin(model, y, compliance_, particle_node_, h_);
+  if (contacts_ != nullptr) contacts_->begin(model, y, f_->compliance, f_->particle_node, h_);
   return factorizations;
 }
 
@@ -97,25 +134,25 @@ void LocalGlobalProblem::estimateCompliance(const Eigen::SparseMatrix<double>& a
   // with the largest diagonal: exact for a diagonal A, and on a uniform sheet kappa is nearly
   // the same everywhere. Contacts only need the right order of magnitude (their update is a
   // relaxed projected Jacobi step).
-  compliance_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(node_particle_.size()));
-  if (free_count_ == 0) return;
+  f_->compliance = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(f_->node_particle.size()));
+  if (f_->free_count == 0) return;
   const Eigen::VectorXd diagonal = a.diagonal();
   Eigen::Index j = 0;
   diagonal.maxCoeff(&j);
-  const std::size_t node = particle_node_[dofs_.free_particles[j]];
-  NodeBuffer unit(static_cast<std::size_t>(kNodeStride) * free_count_, 0.0);
+  const std::size_t node = f_->particle_node[f_->dofs.free_particles[j]];
+  NodeBuffer unit(static_cast<std::size_t>(kNodeStride) * f_->free_count, 0.0);
   unit[kNodeStride * node] = 1.0;
-  system_.solveInPlace(unit.data());
+  f_->system.solveInPlace(unit.data());
   const double kappa = unit[kNodeStride * node] * diagonal[j];
-  for (int f = 0; f < free_count_; ++f) compliance_[dofs_.free_particles[f]] = kappa / diagonal[f];
+  for (int f = 0; f < f_->free_count; ++f) f_->compliance[f_->dofs.free_particles[f]] = kappa / diagonal[f];
 }
 
 void LocalGlobalProblem::buildNodeMatrix(const Eigen::SparseMatrix<double>& a) {
   // Row k of the node matrix is free index order()[k]; A is symmetric, so that row is column
   // order()[k] of the column-major a.
-  const std::vector<int>& order = system_.order();
+  const std::vector<int>& order = f_->system.order();
   const int nf = static_cast<int>(order.size());
-  NodeMatrix& m = node_matrix_;
+  NodeMatrix& m = f_->node_matrix;
   m.row_begin.assign(1, 0);
   m.column.clear();
   m.value.clear();
@@ -123,7 +160,7 @@ void LocalGlobalProblem::buildNodeMatrix(const Eigen::SparseMatrix<double>& a) {
   for (int k = 0; k < nf; ++k) {
     row.clear();
     for (Eigen::SparseMatrix<double>::InnerIterator it(a, order[k]); it; ++it)
-      row.emplace_back(particle_node_[dofs_.free_particles[it.row()]], it.value());
+      row.emplace_back(f_->particle_node[f_->dofs.free_particles[it.row()]], it.value());
     std::sort(row.begin(), row.end());  // walk x forwards
     for (const auto& [column, value] : row) {
       m.column.push_back(column);
@@ -135,10 +172,10 @@ void LocalGlobalProblem::buildNodeMatrix(const Eigen::SparseMatrix<double>& a) {
 
 double LocalGlobalProblem::objectiveAndGradient(const NodeBuffer& x, NodeBuffer& gradient) {
   rhs_work_ = rhs_constant_;
-  const double spring_energy = localStep3(springs_, x.data(), rhs_work_.data(), threads_);
+  const double spring_energy = localStep3(f_->springs, x.data(), rhs_work_.data(), threads_);
   gradient.assign(x.size(), 0.0);
-  const NodeMatrix& m = node_matrix_;
-  for (int k = 0; k < free_count_; ++k) {
+  const NodeMatrix& m = f_->node_matrix;
+  for (int k = 0; k < f_->free_count; ++k) {
     double ax = 0.0, ay = 0.0, az = 0.0;
     for (int e = m.row_begin[k]; e < m.row_begin[k + 1]; ++e) {
       const double* xj = &x[kNodeStride * m.column[e]];
@@ -157,8 +194,8 @@ double LocalGlobalProblem::objectiveAndGradient(const NodeBuffer& x, NodeBuffer&
 
 double LocalGlobalProblem::objectiveWith(const NodeBuffer& x, double spring_energy) const {
   const double h2 = h_ * h_;
-  return inertiaAndGravity(x.data(), inertial_.data(), node_mass_.data(),
-                           static_cast<int>(node_mass_.size()), gravity_, h2, threads_) +
+  return inertiaAndGravity(x.data(), inertial_.data(), f_->node_mass.data(),
+                           static_cast<int>(f_->node_mass.size()), gravity_, h2, threads_) +
          h2 * (spring_energy + constant_energy_ + pinEnergy(x));
 }
 
@@ -166,7 +203,7 @@ double LocalGlobalProblem::pinEnergy(const NodeBuffer& x) const {
   double e = 0.0;
   for (const Pin& pin : problem_.pins->pins()) {
     if (pin.isHard()) continue;
-    const double* xp = &x[kNodeStride * particle_node_[pin.vertex]];
+    const double* xp = &x[kNodeStride * f_->particle_node[pin.vertex]];
     e += 0.5 * pin.stiffness * (Vec3(xp[0], xp[1], xp[2]) - pin.target).squaredNorm();
   }
   return e;
@@ -180,15 +217,21 @@ double LocalGlobalProblem::iterate(const NodeBuffer& x, NodeBuffer& x_next) {
     contacts_->update(x);
     contacts_->addForces(x_next);
   }
-  const double spring_energy = localStep3(springs_, x.data(), x_next.data(), threads_);
-  system_.globalStep(x.data(), x_next.data());  // the free nodes, x, y and z at once
-  const std::size_t pinned_begin = static_cast<std::size_t>(kNodeStride) * free_count_;
+  const double spring_energy = localStep3(f_->springs, x.data(), x_next.data(), threads_);
+  f_->system.globalStep(x.data(), x_next.data());  // the free nodes, x, y and z at once
+  const std::size_t pinned_begin = static_cast<std::size_t>(kNodeStride) * f_->free_count;
   std::copy(x.begin() + pinned_begin, x.end(), x_next.begin() + pinned_begin);
   return objectiveWith(x, spring_energy);
 }
 
+double LocalGlobalProblem::rmsDistance(const NodeBuffer& a, const NodeBuffer& b) const {
+  if (f_->free_count == 0) return 0.0;
+  const Eigen::Index n = static_cast<Eigen::Index>(kNodeStride) * f_->free_count;
+  return (asVector(a).head(n) - asVector(b).head(n)).norm() / std::sqrt(double(f_->free_count));
+}
+
 double LocalGlobalProblem::objectiveAt(const NodeBuffer& x) const {
-  return objectiveWith(x, springEnergy3(springs_, x.data(), threads_));
+  return objectiveWith(x, springEnergy3(f_->springs, x.data(), threads_));
 }
 
 NodeBuffer LocalGlobalProblem::initialGuess(const SolverSettings& settings) const {
@@ -207,10 +250,19 @@ void LocalGlobalProblem::finishStep(const NodeBuffer& x, State& state) {
   state = problem_.finish(positions, state.time);
 }
 
+SolverCarry LocalGlobalProblem::warmStart() const {
+  SolverCarry out;
+  if (!correction_.empty() && f_ != nullptr && correction_.size() == kNodeStride * f_->node_particle.size()) {
+    toParticles(correction_, out.correction);
+    out.implicit_h = h_;
+  }
+  return out;
+}
+
 void LocalGlobalProblem::toParticles(const NodeBuffer& x, Points& out) const {
-  out.resize(3, static_cast<Eigen::Index>(node_particle_.size()));
-  for (std::size_t k = 0; k < node_particle_.size(); ++k)
-    for (int c = 0; c < 3; ++c) out(c, node_particle_[k]) = x[kNodeStride * k + c];
+  out.resize(3, static_cast<Eigen::Index>(f_->node_particle.size()));
+  for (std::size_t k = 0; k < f_->node_particle.size(); ++k)
+    for (int c = 0; c < 3; ++c) out(c, f_->node_particle[k]) = x[kNodeStride * k + c];
 }
 
 }  // namespace cloth_sim

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "cloth_sim/core/linalg/node_buffer.h"
@@ -37,9 +38,9 @@ double relativeChange(const NodeBuffer& next, const NodeBuffer& current, const N
 ///  - local step: each spring's direction d_s = r_s (x_i - x_j) / |x_i - x_j|;
 ///  - global step: (M + h^2 L) x = M y + h^2 (J d + m g + soft-pin and boundary terms).
 /// L = L_scalar (x) I3, so ONE scalar N_free x N_free sparse Cholesky factor serves x, y and z
-/// (a three-column solve). The factor is kept across steps and recomputed only when the
-/// SolverInput revision or SolverSettings::linear_solver changes (RevisionCache). Moving a pin
-/// target only changes the right-hand side.
+/// (a three-column solve). The factor is kept across steps, one per implicit step h_i used
+/// (up to kKeptFactors), and recomputed only when the SolverInput revision or
+/// SolverSettings::linear_solver changes. Moving a pin target only changes the right-hand side.
 ///
 /// Everything lives in the factor's node order and a padded x, y, z, 0 layout (NodeBuffer):
 /// free nodes first, hard-pinned nodes after them. An iteration is two streaming passes
@@ -70,7 +71,7 @@ class LocalGlobalProblem {
   /// @p x, with zeros in the padding and in the rows of hard-pinned nodes. Contacts are ignored.
   double objectiveAndGradient(const NodeBuffer& x, NodeBuffer& gradient);
   /// v <- A^-1 v over the free nodes (the global step's factor; other rows untouched).
-  void solveGlobal(NodeBuffer& v) { system_.solveInPlace(v.data()); }
+  void solveGlobal(NodeBuffer& v) { f_->system.solveInPlace(v.data()); }
 
   /// The inertial prediction y of this step, in node order.
   const NodeBuffer& inertial() const { return inertial_; }
@@ -81,15 +82,25 @@ class LocalGlobalProblem {
   void finishStep(const NodeBuffer& x, State& state);
   /// @p out (3 x N, particle order) = the node buffer @p x.
   void toParticles(const NodeBuffer& x, Points& out) const;
+  /// The warm start x_n - y of the last step in particle order (3 x N; empty when none) and
+  /// the implicit step it is for.
+  SolverCarry warmStart() const;
+  /// Sets the warm start (as warmStart() gave it) that the next begin() uses, after its
+  /// factorization, if its step has the same h_i (a snapshot restored into a fresh solver).
+  void setWarmStart(const SolverCarry& carry) { pending_correction_ = carry; }
 
   /// Whether this step solves contact forces (SolverInput::contacts was set).
   bool solvesContacts() const { return contacts_ != nullptr; }
+  /// m, RMS over the free nodes of |a_k - b_k|: the distance between two iterates.
+  double rmsDistance(const NodeBuffer& a, const NodeBuffer& b) const;
+  /// m, SolverInput::iteration_tolerance of this step (0: none).
+  double iterationTolerance() const { return iteration_tolerance_; }
   /// Free nodes: they come first in the node order, hard-pinned nodes after them.
-  int freeNodeCount() const { return free_count_; }
+  int freeNodeCount() const { return f_ != nullptr ? f_->free_count : 0; }
   /// The global step's factored system (valid after the first begin).
-  const GlobalSystem& system() const { return system_; }
+  const GlobalSystem& system() const { return f_->system; }
   /// The springs as the local step sees them (valid after the first begin).
-  const SpringTable& springTable() const { return springs_; }
+  const SpringTable& springTable() const { return f_->springs; }
 
  private:
   /// Factors A = M + h^2 L (@p h: the implicit step h_i, see ImplicitStepProblem), sets the
@@ -101,7 +112,7 @@ class LocalGlobalProblem {
   /// Per particle estimate of (A^-1)_ii (1/kg), 0 when pinned: the contacts' compliance.
   /// (after the node order is set; @p a in free-index order).
   void estimateCompliance(const Eigen::SparseMatrix<double>& a);
-  /// Keeps @p a (free-index order) as node_matrix_: rows and columns in node order.
+  /// Keeps @p a (free-index order) as f_->node_matrix: rows and columns in node order.
   void buildNodeMatrix(const Eigen::SparseMatrix<double>& a);
 
   /// A in node order over the free nodes, compressed rows (for objectiveAndGradient).
@@ -109,17 +120,33 @@ class LocalGlobalProblem {
     std::vector<int> row_begin, column;
     std::vector<double> value;
   };
+  /// Everything a factorization sets, for one (revision, linear solver, implicit step h_i).
+  struct Factored {
+    std::uint64_t revision = 0;
+    LinearSolver backend = LinearSolver::kFused;
+    double implicit_h = 0.0;  ///< s
+    GlobalSystem system;
+    int free_count = 0;
+    std::vector<int> node_particle;  ///< node -> particle: free nodes in system order, then pins
+    std::vector<int> particle_node;  ///< particle -> node
+    std::vector<double> node_mass;   ///< kg, per node
+    SpringTable springs;             ///< springs with at least one free end (weights h_i^2 k r)
+    FreeParticleMap dofs;
+    SpringTable pinned_springs;      ///< springs with two pinned ends: constant energy
+    Eigen::VectorXd compliance;      ///< per particle (1/kg), see estimateCompliance
+    NodeMatrix node_matrix;          ///< A in node order
+  };
+  /// Factorizations kept: a run with error control moves between a few step sizes (and their
+  /// variable-step BDF2 transitions), each factored once.
+  static constexpr std::size_t kKeptFactors = 8;
+  /// The factorization for @p revision, @p backend and @p h (made, or found among the kept
+  /// ones; a new revision forgets them all) becomes f_. Returns the factorizations done (0, 1).
+  int useFactor(const SolverInput& input, LinearSolver backend, double h);
 
-  RevisionCache factor_cache_;
-  GlobalSystem system_;
-  int free_count_ = 0;
-  std::vector<int> node_particle_;  ///< node -> particle: free nodes in system order, then hard pins
-  std::vector<int> particle_node_;  ///< particle -> node
-  std::vector<double> node_mass_;   ///< kg, per node
-  SpringTable springs_;             ///< springs with at least one free end
-  FreeParticleMap dofs_;
-  SpringTable pinned_springs_;      ///< springs with two pinned ends: constant energy
+  std::vector<std::unique_ptr<Factored>> factors_;  ///< most recently used last
+  Factored* f_ = nullptr;                           ///< this step's
   double h_ = 0.0;                  ///< s, the implicit step h_i of this step
+  double iteration_tolerance_ = 0.0;  ///< m, SolverInput::iteration_tolerance
   Vec3 gravity_ = Vec3::Zero();
   int threads_ = 1;                 ///< the kernels' threads (SolverSettings::threads, resolved)
 
@@ -127,10 +154,9 @@ class LocalGlobalProblem {
   NodeBuffer inertial_;             ///< y
   NodeBuffer rhs_constant_;         ///< M y + h^2 (m g + k_pin t + k x_boundary)
   NodeBuffer correction_;           ///< x_{n} - y of the previous step (warm start)
+  SolverCarry pending_correction_;  ///< setWarmStart's, for the next begin()
   double constant_energy_ = 0.0;    ///< springs between pinned nodes, J
   ContactForces* contacts_ = nullptr;  ///< this step's contact forces, or nullptr
-  Eigen::VectorXd compliance_;         ///< per particle (1/kg), see estimateCompliance
-  NodeMatrix node_matrix_;             ///< A in node order, built with the factor
   NodeBuffer rhs_work_;                ///< b(x) of objectiveAndGradient
 };
 

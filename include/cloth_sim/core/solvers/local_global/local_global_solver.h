@@ -26,6 +26,9 @@ class LocalGlobalFamily : public Solver {
   const GlobalSystem& system() const { return problem_.system(); }
   /// The springs as the local step sees them (valid after the first step).
   const SpringTable& springTable() const { return problem_.springTable(); }
+  /// The problem's warm start (LocalGlobalProblem::warmStart).
+  SolverCarry carriedOver() const override { return problem_.warmStart(); }
+  void carryOver(const SolverCarry& carry) override { problem_.setWarmStart(carry); }
 
  protected:
   LocalGlobalProblem problem_;

@@ -1,0 +1,225 @@
+// Error control (docs/method.md, "Error control"): the substep controller's rule, the local
+// error estimate against a known local error, the error falling with the tolerance, and
+// reruns that are the same to the bit.
+#include <cmath>
+#include <cstdio>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "cloth_sim/core/io/scene.h"
+#include "cloth_sim/core/simulation/simulation.h"
+#include "cloth_sim/core/simulation/step_controller.h"
+#include "test_util.h"
+
+namespace cloth_sim {
+namespace {
+
+// --- the controller's rule ---------------------------------------------------------------
+
+/// A frame of n substeps of an order-p integrator makes E(n) = K / n^p (the law the controller
+/// assumes): it settles on the smallest ladder rung that meets the tolerance with its safety
+/// margin, in steps of at most kMaxGrowth, and stays there.
+TEST(StepController, SettlesOnTheRungTheErrorLawAsksForAndStays) {
+  for (int order : {1, 2}) {
+    const double tol = 1e-5;
+    const double n_star = 10.0;  // E(n_star) = tol
+    const double K = tol * std::pow(n_star, order);
+    StepController c(tol, order, 1, 128);
+    int n = 1;
+    int changes = 0;
+    for (int frame = 0; frame < 200; ++frame) {
+      const StepController::Decision d = c.next(n, K / std::pow(n, order));
+      EXPECT_LE(d.substeps, n * StepController::kMaxGrowth);
+      EXPECT_FALSE(d.capped);
+      if (d.substeps != n) ++changes;
+      n = d.substeps;
+    }
+    EXPECT_LE(K / std::pow(n, order), tol) << "order " << order;
+    // The rung below would not meet the tolerance at the safety margin the controller asks.
+    const int below = StepController::rungBelow(n);
+    EXPECT_GT(K / std::pow(below, order), StepController::kSafety * tol * 0.999) << order;
+    EXPECT_LE(changes, 3) << "order " << order << ": no flip-flop between two rungs";
+  }
+}
+
+TEST(StepController, GoesDownOneRungAtATimeAfterCalmFrames) {
+  const double tol = 1e-5;
+  StepController c(tol, 2, 1, 128);
+  // A frame error far under the tolerance at 64 substeps: the controller steps down, one rung
+  // per kPatience frames, and never below the rung whose predicted error reaches half of it.
+  const double K = 0.01 * tol * 64.0 * 64.0;
+  int n = 64, frames = 0;
+  std::vector<int> visited = {n};
+  while (frames < 2000) {
+    const int next = c.next(n, K / (double(n) * n)).substeps;
+    ++frames;
+    if (next != n) {
+      EXPECT_EQ(next, StepController::rungBelow(n));
+      visited.push_back(next);
+    }
+    n = next;
+  }
+  EXPECT_LE(K / (double(n) * n), tol);
+  const int below = StepController::rungBelow(n);
+  EXPECT_GE(K / (double(below) * below), StepController::kDownShare * tol * 0.999);
+  // The first step down waited kPatience frames.
+  EXPECT_GE(visited.size(), 2u);
+}
+
+TEST(StepController, SaysWhenTheMaximumCannotMeetTheTolerance) {
+  StepController c(1e-6, 1, 1, 16);
+  StepController::Decision d = c.next(16, 1e-3);  // would need 16 * 1000 / 0.7 substeps
+  EXPECT_EQ(d.substeps, 16);
+  EXPECT_TRUE(d.capped);
+  c.setMaxSubsteps(4);
+  d = c.next(16, 1e-9);
+  EXPECT_LE(d.substeps, 4);
+  EXPECT_THROW(StepController(0.0, 1, 1, 4), std::invalid_argument);
+  EXPECT_THROW(StepController(1e-3, 1, 5, 4), std::invalid_argument);
+  // A non-finite estimate (a rolled-back frame) counts as far over the tolerance.
+  EXPECT_GT(c.next(2, std::nan("")).substeps, 2);
+}
+
+// --- the estimate against the known local error of a linear oscillator -------------------
+
+/// A particle on a spring of stiffness k to a hard-pinned one, no gravity, no damping,
+/// displaced along the spring: x'' = -w^2 x, w^2 = k / m, whose exact flow over h from (x, v)
+/// is x cos(w h) + v sin(w h) / w.
+struct Oscillator {
+  double k = 40.0, m = 0.1, rest = 0.5, amplitude = 0.05;
+  double omega() const { return std::sqrt(k / m); }
+  Simulation make(Integrator integrator, int substeps, double error_tolerance) const {
+    Model model;
+    model.mass = Eigen::VectorXd::Constant(2, m);
+    model.springs.add(0, 1, rest, k, SpringFamily::kStructural);
+    model.triangles.resize(3, 0);
+    model.gravity = Vec3::Zero();
+    Points x(3, 2);
+    x.col(0) = Vec3::Zero();
+    x.col(1) = Vec3(0, 0, -(rest + amplitude));
+    PinSet pins;
+    pins.add(0, Vec3::Zero(), 0.0, 2);
+    SimulationOptions o;
+    o.solver = "newton";  // converged steps: the error left is the integrator's alone
+    o.settings.integrator = integrator;
+    o.settings.substeps = substeps;
+    o.settings.max_iterations = 50;
+    o.settings.tolerance = 1e-13;
+    o.settings.error_tolerance = error_tolerance;
+    o.frame_time = 1.0 / 240.0;  // w h = 0.083: the leading terms of the error dominate
+    return Simulation(std::move(model), x, std::move(pins), Colliders(), o);
+  }
+};
+
+TEST(ErrorEstimate, WithinAFactorOfThreeOfTheTrueLocalErrorOfAnOscillator) {
+  const Oscillator osc;
+  const double w = osc.omega();
+  for (Integrator integrator : {Integrator::kImplicitEuler, Integrator::kBdf2}) {
+    // One fixed substep a frame: the estimate is reported, and a tiny tolerance converges it.
+    Simulation sim = osc.make(integrator, 1, 1e-9);
+    // Over a period and a half: the estimate of each step against the distance from the
+    // exact flow from that step's start. Pointwise the two part where the acceleration changes
+    // sign (the estimate's leading term vanishes there, the next one does not), so the figure is
+    // the ratio of their sums, and every step's estimate within 3x once the truth is not tiny.
+    double estimated = 0.0, true_error = 0.0, worst_ratio = 1.0, largest = 0.0;
+    std::vector<std::pair<double, double>> steps;
+    for (int f = 0; f < 160; ++f) {
+      const double z = sim.state().positions(2, 1) + osc.rest;  // displacement from rest
+      const double v = sim.state().velocities(2, 1);
+      const double h = sim.frameTime();
+      const double exact = z * std::cos(w * h) + v * std::sin(w * h) / w;
+      const StepReport r = sim.step();
+      ASSERT_EQ(r.status, StepStatus::kOk);
+      // The RMS over the free particles of a one-particle cloth is that particle's error.
+      const double truth = std::abs(sim.state().positions(2, 1) + osc.rest - exact);
+      if (f < 3) continue;  // BDF2's first steps start from Euler's history
+      estimated += r.error_estimate;
+      true_error += truth;
+      largest = std::max(largest, truth);
+      steps.emplace_back(r.error_estimate, truth);
+    }
+    for (const auto& [estimate, truth] : steps) {
+      if (truth < 0.3 * largest) continue;
+      worst_ratio = std::max(worst_ratio, std::max(estimate / truth, truth / estimate));
+    }
+    std::printf("[measured] %s, h = 1/240 s, w h = %.3f: sum of estimates / sum of true local "
+                "errors %.2f; worst step (true error over 30 %% of the largest) %.2f x\n",
+                integratorName(integrator), w / 240.0, estimated / true_error, worst_ratio);
+    EXPECT_GT(estimated / true_error, 1.0 / 3.0) << integratorName(integrator);
+    EXPECT_LT(estimated / true_error, 3.0) << integratorName(integrator);
+    EXPECT_LT(worst_ratio, 3.0) << integratorName(integrator);
+  }
+}
+
+// --- the error falls with the tolerance; reruns are the same --------------------------------
+
+SceneConfig flagScene() {
+  return parseScene(R"(time_step: 1/60
+solver: {error_tolerance: 1e-4}
+cloth: {grid: {rows: 10, cols: 16, size: [0.8, 0.5], position: [0.4, 0.0, 1.5]}}
+material: {areal_density: 0.2, damping: 0.1, springs: {structural: 400, shear: 40, bending: 4}}
+pins: [{edge: left}]
+)",
+                    "flag");
+}
+
+Points runFor(SceneConfig scene, double seconds, int* substeps_seen = nullptr) {
+  Simulation sim = makeSimulation(scene);
+  while (sim.state().time < seconds - 1e-9) {
+    const StepReport r = sim.step();
+    EXPECT_EQ(r.status, StepStatus::kOk);
+    if (substeps_seen != nullptr) *substeps_seen = std::max(*substeps_seen, r.substeps);
+  }
+  return sim.state().positions;
+}
+
+double rms(const Points& a, const Points& b) {
+  return std::sqrt((a - b).colwise().squaredNorm().mean());
+}
+
+TEST(ErrorControl, ATighterToleranceGivesASmallerErrorAgainstTheSmallStepMotion) {
+  SceneConfig reference = flagScene();
+  reference.options.settings.error_tolerance = 0.0;
+  reference.options.settings.substeps = 256;
+  reference.options.settings.max_iterations = 100;
+  reference.options.settings.tolerance = 1e-10;
+  reference.options.settings.integrator = Integrator::kBdf2;
+  reference.given = SolverFieldsGiven{true, true, true, true};
+  const Points truth = runFor(reference, 0.5);
+  double previous = 1e300;
+  for (double tol : {1e-3, 1e-4, 1e-5, 1e-6}) {
+    SceneConfig s = flagScene();
+    s.options.settings.error_tolerance = tol;
+    int most = 0;
+    const double e = rms(runFor(s, 0.5, &most), truth);
+    std::printf("[measured] error tolerance %g m: RMS %.3g m at 0.5 s, at most %d substeps\n",
+                tol, e, most);
+    EXPECT_LT(e, previous) << "tolerance " << tol;
+    previous = e;
+  }
+}
+
+TEST(ErrorControl, ARerunIsTheSameToTheBit) {
+  const SceneConfig s = flagScene();
+  EXPECT_EQ(runFor(s, 1.0), runFor(s, 1.0));
+  // And after a reset, the same run again.
+  Simulation sim = makeSimulation(s);
+  for (int f = 0; f < 30; ++f) sim.step();
+  const Points first = sim.state().positions;
+  sim.reset();
+  for (int f = 0; f < 30; ++f) sim.step();
+  EXPECT_EQ(sim.state().positions, first);
+  // And from a snapshot: the substeps and the controller go on as they would have.
+  const SimulationSnapshot saved = sim.snapshot();
+  std::vector<int> substeps;
+  for (int f = 0; f < 40; ++f) substeps.push_back(sim.step().substeps);
+  const Points after = sim.state().positions;
+  sim.restore(saved);
+  for (int f = 0; f < 40; ++f) EXPECT_EQ(sim.step().substeps, substeps[f]) << "frame " << f;
+  EXPECT_EQ(sim.state().positions, after);
+}
+
+}  // namespace
+}  // namespace cloth_sim
