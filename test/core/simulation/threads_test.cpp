@@ -1,7 +1,9 @@
 // Threads change how fast a frame is computed, never what it computes: every shipped scene and
 // the solvers' kernels give the same bits at 1, 2 and 3 threads (docs/architecture.md, "Threads").
+#include <algorithm>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -89,6 +91,85 @@ TEST(Threads, ContactsOnALargerClothGiveTheSameBitsAtEveryThreadCount) {
   const SceneConfig drape =
       applyOverrides(loadSceneFile(test::sourcePath("config/scenes/drape.yaml")), o);
   expectSameBits(drape, 36, "drape-64");
+}
+
+// --- error control: several substep sizes, a factor kept for each ---------------------------
+
+/// What an error-controlled run leaves: the state, and per frame the substeps and iterations
+/// the controller and the tolerance chose.
+struct ControlledRun {
+  Points positions, velocities;
+  std::vector<int> substeps, iterations, contacts;
+};
+
+/// Runs @p config for @p frames at @p threads; from frame @p switch_at on (if in range) at
+/// @p later_threads, set through setSolverSettings (every run makes that call at that frame, so
+/// the controller restarts the same way whatever the counts).
+ControlledRun runControlled(const SceneConfig& config, int threads, int later_threads, int frames,
+                            int switch_at) {
+  SceneOverrides overrides;
+  overrides.threads = threads;
+  Simulation sim = makeSimulation(applyOverrides(config, overrides));
+  ControlledRun r;
+  for (int f = 0; f < frames; ++f) {
+    if (f == switch_at) {
+      SolverSettings settings = sim.solverSettings();
+      settings.threads = later_threads;
+      sim.setSolverSettings(settings);
+    }
+    const StepReport report = sim.step();
+    EXPECT_EQ(report.status, StepStatus::kOk) << report.message;
+    r.substeps.push_back(report.substeps);
+    r.iterations.push_back(report.total_iterations);
+    r.contacts.push_back(report.contacts);
+  }
+  r.positions = sim.state().positions;
+  r.velocities = sim.state().velocities;
+  return r;
+}
+
+void expectSameControlledBits(const SceneConfig& config, int frames, const std::string& what) {
+  const int switch_at = frames / 2;
+  const ControlledRun one = runControlled(config, 1, 1, frames, switch_at);
+  // Several step sizes, so several kept factors (and BDF2's transitions between them).
+  std::vector<int> sizes = one.substeps;
+  std::sort(sizes.begin(), sizes.end());
+  EXPECT_GE(std::unique(sizes.begin(), sizes.end()) - sizes.begin(), 2) << what;
+  // 2 threads throughout; and 1 then 2, so factors made on one thread solve on two.
+  for (const auto& [first, later] : {std::pair{2, 2}, std::pair{1, 2}, std::pair{2, 1}}) {
+    const ControlledRun many = runControlled(config, first, later, frames, switch_at);
+    const std::string label =
+        what + ", " + std::to_string(first) + " then " + std::to_string(later) + " threads";
+    EXPECT_TRUE(many.positions == one.positions) << label;
+    EXPECT_TRUE(many.velocities == one.velocities) << label;
+    EXPECT_EQ(many.substeps, one.substeps) << label;
+    EXPECT_EQ(many.iterations, one.iterations) << label;
+    EXPECT_EQ(many.contacts, one.contacts) << label;
+  }
+}
+
+TEST(Threads, ErrorControlGivesTheSameBitsOnOneAndTwoThreads) {
+  // substeps 0 and an error tolerance: the controller moves between step sizes, the local/global
+  // problem keeps a factor per implicit step h_i, and the iterations stop at the tolerance.
+  for (const LinearSolver linear : {LinearSolver::kFused, LinearSolver::kFusedFloat}) {
+    SceneOverrides o;
+    o.resolution = 48;
+    o.substeps = 0;
+    o.error_tolerance = 1e-5;  // 8, then 16, then up to 64 substeps
+    o.integrator = Integrator::kBdf2;
+    o.linear_solver = linear;
+    const SceneConfig hanging =
+        applyOverrides(loadSceneFile(test::sourcePath("config/scenes/hanging.yaml")), o);
+    expectSameControlledBits(hanging, 30, std::string("hanging-48/") + linearSolverName(linear));
+  }
+  // With contacts: still contacts complete their friction after the solve (a tolerance is set).
+  SceneOverrides o;
+  o.substeps = 0;
+  o.error_tolerance = 1e-3;
+  o.integrator = Integrator::kBdf2;
+  const SceneConfig drape =
+      applyOverrides(loadSceneFile(test::sourcePath("config/scenes/drape.yaml")), o);
+  expectSameControlledBits(drape, 40, "drape/error control");
 }
 
 }  // namespace

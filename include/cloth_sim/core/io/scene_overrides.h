@@ -1,10 +1,10 @@
 /// @file scene_overrides.h
 /// What a caller replaces in a scene before building it: the node's ~solver / ~iterations /
-/// ~substeps / ~self_collision / ~threads, the runner's --solver, --iterations, --substeps,
-/// --tolerance, --linear-solver, --dt, --warm-start, --integrator, --self-collision,
-/// --resolution and --threads, the benchmark's configurations. Each caller checks its values
-/// against settings_table.h, naming them as it calls them (Setting::refusal); Simulation checks
-/// the result when it is built.
+/// ~substeps / ~error_tolerance / ~self_collision / ~threads, the runner's --solver,
+/// --iterations, --substeps, --tolerance, --error-tolerance, --linear-solver, --dt,
+/// --warm-start, --integrator, --self-collision, --resolution and --threads, the benchmark's
+/// configurations. Each caller checks its values against settings_table.h, naming them as it
+/// calls them (Setting::refusal); Simulation checks the result when it is built.
 #pragma once
 
 #include <optional>
