@@ -82,9 +82,9 @@ def plot(rows, path):
         if float(r["true_error"]) > 0 and float(r["estimate"]) > 0:
             by_case[f"{r['case']} {r['solver']}"].append((float(r["true_error"]), float(r["estimate"])))
     lo, hi = math.inf, 0.0
-    for name, points in sorted(by_case.items()):
+    for n, (name, points) in enumerate(sorted(by_case.items())):
         xs, ys = zip(*points)
-        ax.loglog(xs, ys, "o", ms=4, label=name)
+        ax.loglog(xs, ys, "os^"[n // 10 % 3], ms=4, label=name)  # 10 colours per marker
         lo, hi = min(lo, *xs, *ys), max(hi, *xs, *ys)
     if hi > 0:
         line = [lo / 2, hi * 2]
