@@ -109,18 +109,33 @@ StepReport Simulation::step() {
   const int n = substeps_;
   const double h = substepTime();
   inputs_.beginFrame(pins_, maxPinMove(), options_.frame_time, colliders_);
-  const SubstepWorld world = substepWorld();
+  SubstepWorld world = substepWorld();
+  if (frame_deadline_ > 0.0) {
+    world.deadline = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                              std::chrono::duration<double>(frame_deadline_));
+  }
   StepReport report;
   const double tolerance = options_.settings.error_tolerance;
   report.error_tolerance = tolerance;
   // Each substep's iterations stop at a share of its part of the frame's error tolerance.
   const double iteration_tolerance = kIterationShare * tolerance / n;
+  const double frame_end = state_.time + options_.frame_time;
   for (int k = 1; k <= n; ++k) {
+    double hk = h;
+    int last = k;
+    if (k > 1 && k < n && std::chrono::steady_clock::now() >= world.deadline) {
+      // Past the deadline: the rest of the frame as one implicit step (stable, less accurate),
+      // so that no setting holds the caller much longer than the deadline.
+      hk = frame_end - state_.time;
+      last = n;
+      report.merged_substeps = n - k + 1;
+    }
     // A grasp's frame is asked where it is at the end of each substep, so a moving gripper
     // carries the cloth continuously, not in one jump a frame.
-    const PinSet& pins = inputs_.pinsAt(k, n, state_.time + h, grasps_, pins_);
-    colliders_.mutableBodies().place(state_.time + h, body_pose_source_);  // bodies likewise
-    substep_.run(world, pins, h, revision_, iteration_tolerance, tolerance > 0.0, report);
+    const PinSet& pins = inputs_.pinsAt(last, n, state_.time + hk, grasps_, pins_);
+    colliders_.mutableBodies().place(state_.time + hk, body_pose_source_);  // bodies likewise
+    substep_.run(world, pins, hk, revision_, iteration_tolerance, tolerance > 0.0, report);
+    if (last == n) break;
   }
   report.max_strain = maxStrain(model_.springs, state_.positions);
   report.status = frameStatus(state_, colliders_, report.max_strain, options_.divergence_strain);
@@ -148,6 +163,14 @@ StepReport Simulation::step() {
   }
   report.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;
+}
+
+void Simulation::setFrameDeadline(double seconds) {
+  if (!(std::isfinite(seconds) && seconds >= 0.0)) {
+    throw std::invalid_argument("frame deadline " + std::to_string(seconds) +
+                                " s must be finite and >= 0 (0 = none)");
+  }
+  frame_deadline_ = seconds;
 }
 
 double Simulation::maxPinMove() const {

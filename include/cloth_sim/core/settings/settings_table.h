@@ -94,6 +94,7 @@ inline constexpr Setting kGraspRadius{"grasp.radius",          "",              
 inline constexpr Setting kRealTimeFactor{"real_time_factor",    "real_time_factor",     Range::closed(0, 1000),             false, "",       "(0 = as fast as possible)", "Simulated seconds per wall-clock second",     0};
 inline constexpr Setting kGraspFrameTimeout{"grasp_frame_timeout", "grasp_frame_timeout", Range::above(0),                  false, "s",      "",                  "A grasp frame whose latest transform is older is stale", 0};
 inline constexpr Setting kFrameBudget{"budget_ms",              "budget_ms",            Range::closed(0, 1000),             false, "ms",     "(0 = off)",         "Wall-clock budget of a frame: the substeps adapt to fit it (0 = off)", 100};
+inline constexpr Setting kFrameDeadline{"frame_deadline_ms",   "frame_deadline_ms",    Range::closed(0, 60000),            false, "ms",     "(0 = none)",        "Wall-clock time a frame may take before its work is cut (iterations stopped, the rest of its substeps run as one)", 0};
 inline constexpr Setting kTfBufferDuration{"tf_buffer_duration", "tf_buffer_duration", Range::closed(1, 3600),     false, "s",      "",                  "History kept by the node's tf buffer (a trajectory published ahead must fit in it)", 0};
 inline constexpr Setting kForceArrowScale{"force_arrow_scale",  "force_arrow_scale",    Range::atLeast(0),                  false, "m/N",    "",                  "Length of a grasp's force arrow per newton",        0};
 // The node's own parameters (src/node/options.cpp): drawing, pacing and recovery.
@@ -123,7 +124,7 @@ inline constexpr const Setting* kAllSettings[] = {
     &kBodySize, &kCapsuleLength, &kBodyMargin,
     &kMeshThickness, &kPinStiffness, &kSphereRadius, &kSphereMass,
     &kRestitution, &kFriction, &kSelfThickness, &kSelfFriction,
-    &kGraspRadius, &kRealTimeFactor, &kGraspFrameTimeout, &kFrameBudget,
+    &kGraspRadius, &kRealTimeFactor, &kGraspFrameTimeout, &kFrameBudget, &kFrameDeadline,
     &kTfBufferDuration, &kForceArrowScale, &kRenderRate, &kMarkerBandwidth, &kMaxRollbacks,
     &kStrainColorScale, &kSphereCullDistance, &kMaxInteractivePins, &kSummaryPeriod,
     &kRunDuration, &kRunFrames, &kFoldTime, &kCoordinate,

@@ -92,6 +92,7 @@ int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& setti
   problem_ = ImplicitStepProblem::build(model, in.pins, state, in.h, settings.integrator);
   h_ = problem_.implicit_h;
   iteration_tolerance_ = in.iteration_tolerance;
+  deadline_ = in.deadline;
   const int factorizations = useFactor(in, settings.linear_solver, h_);
   gravity_ = model.gravity;
   const int n = model.particleCount();
