@@ -177,7 +177,17 @@ double Simulation::maxPinMove() const {
   // A target jumping d in one implicit step stretches the springs of its particle by at most
   // d / r before the cloth follows: keeping that a tenth of divergence_strain keeps a drag,
   // however fast, far from a rolled-back frame.
-  return substeps_ * shortest_rest_length_ * options_.divergence_strain / 10.0;
+  const double strain_bound = substeps_ * shortest_rest_length_ * options_.divergence_strain / 10.0;
+  return pin_speed_limit_ > 0.0 ? std::min(strain_bound, pin_speed_limit_ * options_.frame_time)
+                                : strain_bound;
+}
+
+void Simulation::setPinSpeedLimit(double metres_per_second) {
+  if (!(std::isfinite(metres_per_second) && metres_per_second >= 0.0)) {
+    throw std::invalid_argument("pin speed limit " + std::to_string(metres_per_second) +
+                                " m/s must be finite and >= 0 (0 = none)");
+  }
+  pin_speed_limit_ = metres_per_second;
 }
 
 void Simulation::rollBack(const State& state, const Colliders& colliders) {

@@ -66,7 +66,9 @@ inline constexpr NameSetting kIntegrator{"solver.integrator", "integrator",
 inline constexpr Setting kIterations{"solver.iterations",       "iterations",           Range::closed(1, 100000),           true,  "",       "",                  "Solver iterations per step (a cap for newton)",     0};
 inline constexpr Setting kSubsteps{"solver.substeps",           "substeps",             Range::closed(0, 1000),             true,  "",       "(0 = chosen by the error estimate)", "Implicit steps per frame (each time_step / substeps); 0: chosen to meet error_tolerance", 0};
 inline constexpr Setting kErrorTolerance{"solver.error_tolerance", "error_tolerance",   Range::closed(0, 1),                false, "m",      "(0 = fixed iterations)", "Position error a frame may make (RMS): iterations and substeps follow it", 0.01};
-inline constexpr Setting kTolerance{"solver.tolerance",         "",                     Range::atLeast(0),                  false, "",       "",                  "Stop below this relative position change (0 = never)", 0};
+// Below 1: the relative change of an iteration is |x_k - x_{k-1}| / |x_k - x_0|, which is 1 at
+// the first iteration, so a tolerance of 1 or more stopped every step after one iteration.
+inline constexpr Setting kTolerance{"solver.tolerance",         "",                     Range{0, 1, false, true},           false, "",       "(0 = never)",       "Stop below this relative position change (0 = never)", 0};
 inline constexpr Setting kTimeStep{"time_step",                 "",                     Range::closed(1e-6, 1),             false, "s",      "",                  "Time step h",                                        0};
 inline constexpr Setting kDivergenceStrain{"divergence_strain", "",                     Range::atLeast(1),                  false, "",       "(1 = 100 %)",       "Strain beyond which a step counts as diverged",      0};
 inline constexpr Setting kArealDensity{"material.areal_density", "",                    Range::closed(1e-6, 1e6),           false, "kg/m^2", "",                  "Mass per area of the cloth",                         0};

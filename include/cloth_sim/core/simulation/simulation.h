@@ -234,6 +234,9 @@ class Simulation {
   /// The farthest a pin's target moves in one frame (m): substeps x the shortest spring's rest
   /// length x divergence_strain / 10. A target set farther away is approached at that speed.
   double maxPinMove() const;
+  /// A speed limit on the pins' targets (m/s; 0: none, the default): maxPinMove() is then at
+  /// most this times the frame time. Throws for a negative or non-finite value.
+  void setPinSpeedLimit(double metres_per_second);
   /// Bumped when h, a stiffness, a mass, the pin set or the integrator changes (see
   /// SolverInput::revision).
   std::uint64_t revision() const { return revision_; }
