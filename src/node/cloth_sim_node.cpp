@@ -204,6 +204,18 @@ void ClothSimNode::stepFrame() {
   }
   const bool must_reset =
       monitor_.record(rolled_back, last_report_.wall_time, last_report_.shortfall());
+  // The same cause again (no input since the last automatic reset): held instead of a reset
+  // loop, decided before the state goes out so that it never counts the reset it replaces.
+  std::string held;
+  if (must_reset && reset_since_input_) held = holdInputs();
+  if (!held.empty()) {
+    monitor_.holdInsteadOfReset();
+    held_notice_ = "held: " + held + "; the cloth back to its initial shape (it led to an "
+                   "automatic reset and again to " + std::to_string(options_.max_rollbacks) +
+                   " rolled-back steps in a row; an input of yours lifts the hold)";
+    warnThrottled("hold", held_notice_);
+    if (reconfigure_) reconfigure_->updateConfig(bridge_.current());
+  }
 
   std_msgs::Header header;
   header.stamp = simStamp();
@@ -218,25 +230,14 @@ void ClothSimNode::stepFrame() {
   kept_in_row_ = rolled_back ? 0 : kept_in_row_ + 1;
   if (kept_in_row_ >= kStableFrames) stable_config_ = bridge_.current();
 
-  if (must_reset) {
-    std::string held;
-    if (reset_since_input_) held = holdInputs();  // the same cause again: no reset loop
-    if (!held.empty()) {
-      monitor_.holdInsteadOfReset();
-      held_notice_ = "held: " + held + " (it led to an automatic reset and again to " +
-                     std::to_string(options_.max_rollbacks) +
-                     " rolled-back steps in a row; an input of yours lifts the hold)";
-      warnThrottled("hold", held_notice_);
-      if (reconfigure_) reconfigure_->updateConfig(bridge_.current());
-    } else {
-      char why[160];
-      std::snprintf(why, sizeof why,
-                    "%d steps in a row were rolled back (~max_rollbacks); the solver '%s' and the "
-                    "reconfigured values are kept",
-                    options_.max_rollbacks, sim_.solver().name());
-      resetSimulation(why, /*automatic=*/true);
-      reset_since_input_ = true;
-    }
+  if (must_reset && held.empty()) {
+    char why[160];
+    std::snprintf(why, sizeof why,
+                  "%d steps in a row were rolled back (~max_rollbacks); the solver '%s' and the "
+                  "reconfigured values are kept",
+                  options_.max_rollbacks, sim_.solver().name());
+    resetSimulation(why, /*automatic=*/true);
+    reset_since_input_ = true;
   }
   cullSpheres();
 }
@@ -357,21 +358,37 @@ void ClothSimNode::userInput() {
 
 std::string ClothSimNode::holdInputs() {
   std::string held;
+  auto add = [&held](const std::string& what) { held += (held.empty() ? "" : ", ") + what; };
   ClothSimConfig config = stable_config_;
   for (const FieldOutcome& f : bridge_.apply(config)) {
-    if (f.applied) held += (held.empty() ? "" : ", ") + f.field + " back to its last stable value";
+    if (f.applied) add(f.field + " back to its last stable value");
   }
-  // A pin pulling its particle away (a target the cloth cannot follow) is held where it is.
+  // The cloth starts again from its initial shape, and nothing may pull it from there: each pin
+  // whose target is away from its particle's initial position is held there, each moving
+  // kinematic sphere stopped.
+  clock_.restart(sim_.state().time);  // ROS time goes on from here, never back
+  sim_.resetCloth();
+  steps_since_reset_ = 0;
+  monitor_.clearFailures();
   constexpr double kPull = 1e-3;  // m
   for (const Pin& pin : sim_.pins().pins()) {
     if (sim_.isGrasped(pin.id)) continue;
-    const Vec3 here = sim_.state().positions.col(pin.vertex);
-    if ((pin.target - here).norm() <= kPull) continue;
+    const Vec3 rest = sim_.initialPositions().col(pin.vertex);
+    if ((pin.target - rest).norm() <= kPull) continue;
     char text[200];
-    std::snprintf(text, sizeof text, "pin %d's target (%.3g, %.3g, %.3g) m held at its particle (%.3g, %.3g, %.3g) m",
-                  pin.id, pin.target.x(), pin.target.y(), pin.target.z(), here.x(), here.y(), here.z());
-    sim_.movePin(pin.id, here);
-    held += (held.empty() ? "" : ", ") + std::string(text);
+    std::snprintf(text, sizeof text, "pin %d's target (%.3g, %.3g, %.3g) m held at (%.3g, %.3g, %.3g) m",
+                  pin.id, pin.target.x(), pin.target.y(), pin.target.z(), rest.x(), rest.y(),
+                  rest.z());
+    sim_.movePin(pin.id, rest);
+    add(text);
+  }
+  std::vector<SphereCollider> moving;
+  for (const SphereCollider& sphere : sim_.colliders().spheres()) {
+    if (!sphere.isDynamic() && sphere.velocity.norm() > 0.0) moving.push_back(sphere);
+  }
+  for (const SphereCollider& sphere : moving) {
+    sim_.moveSphere(sphere.id, sphere.center, Vec3::Zero());
+    add("sphere " + std::to_string(sphere.id) + " stopped");
   }
   return held;
 }

@@ -113,9 +113,10 @@ class ClothSimNode {
   /// automatic reset is a reset, not a hold), and the notice of a hold is cleared.
   void userInput();
   /// The automatic reset that would repeat (no input since the last one): instead, the
-  /// reconfigured values go back to the last stable ones and each pin pulling away from its
-  /// particle is held where its particle is. Returns what was held ("" = nothing: the cause is
-  /// not an input, and the cloth is reset).
+  /// reconfigured values go back to the last stable ones, the cloth to its initial shape, each
+  /// pin whose target is away from its particle's initial position is held there and each
+  /// moving kinematic sphere stopped. Returns what was held ("" = nothing: the cause is not an
+  /// input, and the caller resets).
   std::string holdInputs();
   /// Removes the spheres that flew beyond ~sphere_cull_distance.
   void cullSpheres();
