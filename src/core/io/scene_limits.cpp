@@ -68,8 +68,8 @@ void SceneLimits::checkSphereAroundPins(const std::string& what, const SphereCol
       const double distance = (p - sphere.center).norm();
       if (distance < sphere.radius) {
         throw std::invalid_argument(
-            name + "sphere at " + str(sphere.center) + " m of radius " +
-            formatNumber(sphere.radius) + " m holds pin " + std::to_string(pin.id) +
+            name + "center " + str(sphere.center) + " m and radius " +
+            formatNumber(sphere.radius) + " m: the sphere holds pin " + std::to_string(pin.id) +
             " (vertex " + std::to_string(pin.vertex) + ", " + formatNumber(distance) +
             " m from its centre) inside it: a pinned particle does not collide, so the cloth "
             "around it would stay stretched across the sphere's surface");
