@@ -125,6 +125,13 @@ int main(int argc, char** argv) {
   accuracy_cmd->add_option("--error-tolerances", accuracy.error_tolerances,
                            "error-controlled configurations: tolerances, m per frame ('' = none)")
       ->delimiter(',')->capture_default_str()->check(CLI::Range(1e-9, 1.0));
+  accuracy_cmd->add_flag("!--no-default", accuracy.scene_default,
+                         "leave out the scene format's default (error control, BDF2)");
+  accuracy_cmd->add_flag("--default-only", accuracy.default_only,
+                         "run the scene format's default only (no sweep)");
+  accuracy_cmd->add_option("--local-error-frames", accuracy.local_error_frames,
+                           "error-controlled runs: frames whose local error is measured (0 = none)")
+      ->capture_default_str()->check(CLI::Range(0, 1000));
   accuracy_cmd->add_option("--error-control-solvers", accuracy.error_control_solvers,
                            "solvers run error-controlled")
       ->delimiter(',')->capture_default_str()->check(CLI::IsMember(cloth_sim::solverNames()));
