@@ -107,6 +107,7 @@ if(CATKIN_ENABLE_TESTING)
     solvers/baselines/xpbd_solver_test
     simulation/step_report_test simulation/grasp_set_test simulation/frame_inputs_test
     simulation/simulation_test simulation/substeps_test simulation/frame_budget_test
+    simulation/live_limits_test
     simulation/error_control_test
     simulation/grasp_test simulation/snapshot_test simulation/body_motion_test simulation/threads_test
     io/scene_test io/scene_bodies_test io/bad_scene_random_test

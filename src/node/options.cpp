@@ -164,6 +164,7 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
   read.get("real_time_factor", o.real_time_factor);
   read.get("start_paused", o.start_paused);
   read.get("budget_ms", o.budget_ms);
+  read.get("frame_deadline_ms", o.frame_deadline_ms);
   read.get("grasp_frame_timeout", o.grasp_frame_timeout);
   read.get("force_arrow_scale", o.force_arrow_scale);
   read.get("marker_bandwidth", o.marker_bandwidth);
@@ -212,6 +213,7 @@ void validateNodeOptions(const NodeOptions& o) {
         {o.summary_period, &settings::kSummaryPeriod},
         {o.real_time_factor, &settings::kRealTimeFactor},
         {o.budget_ms, &settings::kFrameBudget},
+        {o.frame_deadline_ms, &settings::kFrameDeadline},
         {o.grasp_frame_timeout, &settings::kGraspFrameTimeout},
         {o.force_arrow_scale, &settings::kForceArrowScale},
         {o.marker_bandwidth, &settings::kMarkerBandwidth},

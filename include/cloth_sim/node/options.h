@@ -76,6 +76,10 @@ struct NodeOptions {
   /// ~budget_ms, ms, [0, 1000] (settings::kFrameBudget): when > 0, the substeps per frame adapt
   /// to keep a frame's wall time within this (FrameBudget); 0 = the substeps stay as set.
   double budget_ms = 0.0;
+  /// ~frame_deadline_ms, ms, [0, 60000] (settings::kFrameDeadline; 0 = none): the wall time a
+  /// frame may take before its work is cut (Simulation::setFrameDeadline), so that no setting
+  /// (100,000 iterations, 1,000 substeps) keeps services and Ctrl-C waiting.
+  double frame_deadline_ms = 200.0;
   /// ~start_paused: wait for cloth/unpause or cloth/step before the first frame.
   bool start_paused = false;
   /// ~grasp_frame_timeout, s, > 0 (settings::kGraspFrameTimeout): a grasp frame whose latest

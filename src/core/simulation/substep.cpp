@@ -40,6 +40,7 @@ void SubstepPipeline::collide(const SubstepWorld& world, const PinSet& pins, dou
   const bool collide = !colliders.empty() || world.self_contact != nullptr;
   SolverInput input{model, pins, h, revision, collide ? &contacts_ : nullptr};
   input.iteration_tolerance = iteration_tolerance;
+  input.deadline = world.deadline;
   if (loads) reactions_.begin(input, state, world.settings.integrator);
   if (!collide) {
     solve(world, input, report);
@@ -107,6 +108,7 @@ SolveResult SubstepPipeline::solve(const SubstepWorld& world, const SolverInput&
   report.convergence = solved.convergence;
   report.converged = solved.converged;
   if (solved.midpoint_fallback) ++report.midpoint_fallbacks;
+  if (solved.cut) ++report.cut_substeps;
   return solved;
 }
 

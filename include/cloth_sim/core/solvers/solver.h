@@ -2,6 +2,7 @@
 /// One interface for every time integrator, selectable by name.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -161,6 +162,8 @@ struct SolveResult {
   /// the free particles (IterationError; docs/method.md, "Error control"); 0 for the explicit
   /// solvers, which have nothing to converge.
   double iteration_error = 0.0;
+  /// The iterations stopped at SolverInput::deadline, before their count or tolerance.
+  bool cut = false;
 };
 
 /// The iteration error of a linearly converging iteration, from its position changes: with the
@@ -206,6 +209,16 @@ struct SolverInput {
   /// use them (lbfgs, newton, local_global_3n and the explicit solvers ignore them; Simulation
   /// then resolves contacts after the step).
   ContactForces* contacts = nullptr;
+  /// Wall-clock time after which an iterative solver stops iterating (after its first
+  /// iteration) and says so (SolveResult::cut): Simulation's frame deadline, so that no setting
+  /// holds the caller for longer than that. max(): never (the default: same results on any
+  /// machine).
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  /// Whether the deadline has passed.
+  bool pastDeadline() const {
+    return deadline != std::chrono::steady_clock::time_point::max() &&
+           std::chrono::steady_clock::now() >= deadline;
+  }
 };
 
 /// What a solver's step carries over to the next besides the State: its warm start, x - y of the

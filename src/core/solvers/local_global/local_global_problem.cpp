@@ -95,6 +95,7 @@ int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& setti
   problem_ = ImplicitStepProblem::build(model, in.pins, state, in.h, settings.integrator);
   h_ = problem_.implicit_h;
   iteration_tolerance_ = in.iteration_tolerance;
+  deadline_ = in.deadline;
   const int factorizations = useFactor(in, settings.linear_solver, h_);
   // Every kept factor solves on this step's threads, the ones made before too (the count may
   // change between steps; the results do not depend on it).
