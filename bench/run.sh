@@ -6,10 +6,14 @@
 #   speed      every solver x iteration count x scene x grid, error against converged Newton
 #   stability  every solver over stiffness x time step x hard cases
 #   scaling    cost against sphere count, and cloth size over mesh obstacles
+#   threads    (only when asked) ms per kernel and per frame at 1 and 2 threads, 32 to 256
+#   precision  (only when asked) the float factor against the double one
 #   self_collision  cost of self-collision against the particle count (bench/self_collision.sh)
 #   self_collision_set  (only when asked) the randomized thin self-contact set at 16 to 128
+#   default    (only when asked) the scene format's default on every accuracy scene at 32 and
+#              64, its estimate against the true local error (bench/default_report.py)
 # and turns the CSV files into plots and tables (bench/report.py). Results: bench/results/.
-# Usage: bench/run.sh [accuracy|drift|floor|speed|stability|scaling|self_collision|self_collision_set|report|all] [extra cloth_sim_bench options]
+# Usage: bench/run.sh [accuracy|drift|floor|speed|stability|scaling|threads|precision|self_collision|self_collision_set|default|report|all] [extra cloth_sim_bench options]
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../scripts/env.sh"
 what="${1:-all}"
@@ -21,8 +25,14 @@ echo "[bench] $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; load: $(c
 # use both cores inside Newton's factorizations).
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 case "$what" in
-  accuracy|drift|floor|speed|stability|scaling|self_collision_set) "$BENCH" "$what" "$@" ;;
+  accuracy|drift|floor|speed|stability|scaling|threads|precision|self_collision_set) "$BENCH" "$what" "$@" ;;
   self_collision) bash "$REPO_ROOT/bench/self_collision.sh" "$@" ;;
+  default)
+    out="$REPO_ROOT/bench/results/default"
+    "$BENCH" accuracy --default-only --grids 32,64 --times 0.25,0.5,1 --out "$out" \
+      --scenes hanging,drape,trampoline,gravity_well,tablecloth,peer_cloth,flag,ball_drop,curtain,table_edge,stiff_flag,soft_flag "$@"
+    /usr/bin/python3 "$REPO_ROOT/bench/default_report.py" --out "$out" "$out"
+    ;;
   report) ;;
   all)
     "$BENCH" accuracy
@@ -32,7 +42,7 @@ case "$what" in
     "$BENCH" scaling
     bash "$REPO_ROOT/bench/self_collision.sh"
     ;;
-  *) echo "usage: $0 [accuracy|drift|floor|speed|stability|scaling|self_collision|self_collision_set|report|all] [options]" >&2; exit 1 ;;
+  *) echo "usage: $0 [accuracy|drift|floor|speed|stability|scaling|threads|precision|self_collision|self_collision_set|default|report|all] [options]" >&2; exit 1 ;;
 esac
 echo "[bench] load after: $(cut -d' ' -f1-3 /proc/loadavg)"
 /usr/bin/python3 "$REPO_ROOT/bench/report.py" "$REPO_ROOT/bench/results"

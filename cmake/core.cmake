@@ -10,6 +10,8 @@ add_library(cloth_sim_core
   src/core/linalg/block_pattern.cpp
   src/core/linalg/cholmod_factor.cpp
   src/core/linalg/supernodal_solves.cpp
+  src/core/linalg/solve_partition.cpp
+  src/core/linalg/parallel.cpp
   src/core/model/model.cpp
   src/core/model/pins.cpp
   src/core/model/free_particles.cpp
@@ -25,6 +27,7 @@ add_library(cloth_sim_core
   src/core/collision/colliders.cpp
   src/core/collision/contact_projection.cpp
   src/core/collision/contact_forces.cpp
+  src/core/collision/contact_detection.cpp
   src/core/collision/sphere_impacts.cpp
   src/core/collision/spatial_hash.cpp
   src/core/collision/mesh_obstacle.cpp
@@ -81,6 +84,9 @@ find_package(tinyobjloader REQUIRED)
 target_include_directories(cloth_sim_core PRIVATE ${CHOLMOD_INCLUDE_DIR})
 target_link_libraries(cloth_sim_core PUBLIC yaml-cpp
                       PRIVATE tinyobjloader::tinyobjloader_double ${CHOLMOD_LIBRARY})
+# The kernels' threads (linalg/parallel.h): a small team of std::threads.
+find_package(Threads REQUIRED)
+target_link_libraries(cloth_sim_core PRIVATE Threads::Threads)
 set_target_properties(cloth_sim_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
 # ---------------------------------------------------------------------------------------------
@@ -94,7 +100,7 @@ if(CATKIN_ENABLE_TESTING)
                              CLOTH_SIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 
   set(CORE_TESTS
-    linalg/cholmod_factor_test linalg/supernodal_solves_test
+    linalg/cholmod_factor_test linalg/supernodal_solves_test linalg/parallel_test
     model/model_test model/pins_test model/spring_kernels_test model/strain_field_test
     model/grid_builder_test model/triangle_mesh_test model/mesh_builder_test model/mesh_file_test
     collision/colliders_test collision/body_collider_test collision/mesh_obstacle_test collision/sphere_impacts_test
@@ -113,8 +119,9 @@ if(CATKIN_ENABLE_TESTING)
     solvers/baselines/xpbd_solver_test
     simulation/step_report_test simulation/grasp_set_test simulation/frame_inputs_test
     simulation/simulation_test simulation/substeps_test simulation/frame_budget_test
+    simulation/live_limits_test
     simulation/error_control_test
-    simulation/grasp_test simulation/snapshot_test simulation/body_motion_test
+    simulation/grasp_test simulation/snapshot_test simulation/body_motion_test simulation/threads_test
     io/scene_test io/scene_bodies_test io/bad_scene_random_test
     settings/settings_table_test)
   foreach(path ${CORE_TESTS})

@@ -22,7 +22,7 @@ endif()
 add_library(cloth_sim_bench_lib STATIC
   tools/bench/cases.cpp tools/bench/reference.cpp tools/bench/speed.cpp tools/bench/stability.cpp
   tools/bench/floor.cpp tools/bench/scaling.cpp tools/bench/accuracy.cpp tools/bench/drift.cpp
-  tools/bench/self_collision_set.cpp)
+  tools/bench/threads.cpp tools/bench/precision.cpp tools/bench/self_collision_set.cpp)
 target_link_libraries(cloth_sim_bench_lib PUBLIC cloth_sim_core)
 # The randomized self-contact set shares its cases with the tests (header-only).
 target_include_directories(cloth_sim_bench_lib PRIVATE test/core/collision)

@@ -3,7 +3,10 @@
 # demo.launch with RViz when there is a display ($DISPLAY set), headless otherwise, where the
 # node then logs a one-line summary of the simulation every second. Ctrl-C stops it.
 # ROS_PORT=n runs it on its own ROS master at port n (default: the usual 11311, or the master
-# already running there).
+# already running there). A scene that needs its script runs through its own launch file:
+# fold with its pin script (launch/fold_demo.launch), grasp_demo with its scripted gripper
+# (launch/grasp_demo.launch) and pinch with its URDF gripper (launch/pinch_demo.launch); fold
+# and grasp_demo loop. DRY_RUN=1 prints the roslaunch command instead of running it.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
 SCENE="${SCENE:-hanging}"
@@ -47,5 +50,19 @@ else
   echo "[run_demo] no DISPLAY: running headless, with a summary of cloth/state every second"
   echo "[run_demo] (scripts/screenshot.sh $SCENE saves an RViz picture without a display)"
 fi
-exec roslaunch "${PORT_ARGS[@]}" cloth_sim demo.launch scene:="$SCENE" rviz:="$RVIZ" \
-  summary:="$SUMMARY" "${RVIZ_ARGS[@]}"
+# A scene is run as it is meant to be seen: with its script where it has one.
+case "$SCENE" in
+  fold)
+    LAUNCH=(cloth_sim fold_demo.launch scene:="$SCENE" rviz:="$RVIZ" summary:="$SUMMARY" "${RVIZ_ARGS[@]}") ;;
+  grasp_demo)  # its own RViz config (the gripper frame, the force arrow); again every 3 s
+    LAUNCH=(cloth_sim grasp_demo.launch rviz:="$RVIZ" summary:="$SUMMARY" loop:=3 start_delay:=2) ;;
+  pinch)
+    LAUNCH=(cloth_sim pinch_demo.launch rviz:="$RVIZ") ;;
+  *)
+    LAUNCH=(cloth_sim demo.launch scene:="$SCENE" rviz:="$RVIZ" summary:="$SUMMARY" "${RVIZ_ARGS[@]}") ;;
+esac
+if [ -n "${DRY_RUN:-}" ]; then
+  echo roslaunch "${PORT_ARGS[@]}" "${LAUNCH[@]}"
+  exit 0
+fi
+exec roslaunch "${PORT_ARGS[@]}" "${LAUNCH[@]}"

@@ -11,6 +11,7 @@
 #include <cloth_sim/ClothState.h>
 #include <cloth_sim/FrameState.h>
 
+#include "cloth_sim/core/linalg/parallel.h"
 #include "cloth_sim/core/model/strain_field.h"
 #include "cloth_sim/node/body_messages.h"
 #include "cloth_sim/node/conversions.h"
@@ -22,6 +23,9 @@ namespace cloth_sim::node {
 namespace {
 
 constexpr double kDiagnosticsPoll = 0.25;  ///< s; the updater publishes every ~diagnostic_period
+/// Frames kept in a row after which the reconfigured values count as stable (what a hold goes
+/// back to): 2 s at 60 Hz.
+constexpr int kStableFrames = 120;
 
 /// How the markers look: ~strain_color_scale, ~shading, ~color_mode, and pins drawn with the
 /// handles' scale but no wider than the particle spacing, so a pinned edge reads as a row of
@@ -46,7 +50,7 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       sim_(std::move(sim)),
       monitor_(sim_.frameTime(), options_.max_rollbacks),
       limits_(SceneLimits::of(sim_, options_.sphere_cull_distance)),
-      budget_(frameBudgetFor(options_.budget_ms)),  // checked by validateNodeOptions
+      budget_(frameBudgetFor(options_.budget_ms, sim_.frameTime(), "parameter '~budget_ms':")),
       style_(styleFor(options_, sim_, limits_)),
       ground_size_(std::max(3.0, 3.0 * limits_.size)),
       real_time_(ros::SteadyTime::now().toSec()),
@@ -61,6 +65,9 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
       nh_(nh),
       pnh_(pnh),
       diagnostics_(nh, pnh) {
+  sim_.setFrameDeadline(1e-3 * options_.frame_deadline_ms);  // checked by validateNodeOptions
+  sim_.setPinSpeedLimit(limits_.pinSpeed());  // pins the cloth can follow
+  stable_config_ = bridge_.current();
   advertiseTopics();
   advertiseServices();
   // Each substep asks where the grasp frames are at its own simulated time.
@@ -74,6 +81,7 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
   startReconfigure();
   startPinHandles();
   startTimers();
+  publishStateNow();  // latched: a node started paused has a state to show
   ROS_INFO(
       "%s: scene '%s' (%d particles, %zu springs, %zu pins), solver %s with %d substeps of "
       "%d iterations, frame %.4f s, markers at %.1f Hz in frame '%s'",
@@ -85,7 +93,8 @@ ClothSimNode::ClothSimNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeOptions 
 
 void ClothSimNode::advertiseTopics() {
   markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>(names::kMarkers, 2);
-  state_pub_ = nh_.advertise<ClothState>(names::kState, 10);
+  // Latched: a client that subscribes while the node is paused gets the state now.
+  state_pub_ = nh_.advertise<ClothState>(names::kState, 10, /*latch=*/true);
   points_pub_ = nh_.advertise<sensor_msgs::PointCloud2>(names::kPoints, 2);
   frame_state_pub_ = nh_.advertise<FrameState>(names::kFrameState, 10);
   if (options_.publish_clock) {
@@ -185,34 +194,73 @@ void ClothSimNode::stepFrame() {
   } else {
     real_time_.add(sim_.frameTime());
   }
-  const bool must_reset = monitor_.record(rolled_back, last_report_.wall_time);
+  if (last_report_.shortfall()) {
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "frame cut at the %g ms ~frame_deadline_ms: %d substeps' iterations stopped, %d "
+                  "substeps run as one (the settings ask for more than a frame can hold)",
+                  options_.frame_deadline_ms, last_report_.cut_substeps,
+                  last_report_.merged_substeps);
+    warnThrottled("frame cut", text);
+  }
+  const bool must_reset =
+      monitor_.record(rolled_back, last_report_.wall_time, last_report_.shortfall());
+  // The same cause again (no input since the last automatic reset): held instead of a reset
+  // loop, decided before the state goes out so that it never counts the reset it replaces.
+  std::string held;
+  if (must_reset && reset_since_input_) held = holdInputs();
+  if (!held.empty()) {
+    monitor_.holdInsteadOfReset();
+    held_notice_ = "held: " + held + "; the cloth back to its initial shape (it led to an "
+                   "automatic reset and again to " + std::to_string(options_.max_rollbacks) +
+                   " rolled-back steps in a row; an input of yours lifts the hold)";
+    warnThrottled("hold", held_notice_);
+    if (reconfigure_) reconfigure_->updateConfig(bridge_.current());
+  }
 
   std_msgs::Header header;
   header.stamp = simStamp();
   header.frame_id = options_.frame_id;
-  if (state_pub_.getNumSubscribers() > 0) {  // the message costs an energy pass
-    const StepCounters counters{steps_since_reset_, monitor_.consecutiveFailures(),
-                                monitor_.divergenceResets()};
-    ClothState state = toClothState(sim_, last_report_, counters, header);
-    addGraspInfo(state);
-    addColliderInfo(state);
-    state_pub_.publish(state);
-  }
+  if (state_pub_.getNumSubscribers() > 0) publishState(header);  // it costs an energy pass
   publishFrameState();
   warnFramesBeforeBuffer();
   publishWrenches(header.stamp);
   publishClock();
   if (!rolled_back) adaptSubsteps();
 
-  if (must_reset) {
+  kept_in_row_ = rolled_back ? 0 : kept_in_row_ + 1;
+  if (kept_in_row_ >= kStableFrames) stable_config_ = bridge_.current();
+
+  if (must_reset && held.empty()) {
     char why[160];
     std::snprintf(why, sizeof why,
                   "%d steps in a row were rolled back (~max_rollbacks); the solver '%s' and the "
                   "reconfigured values are kept",
                   options_.max_rollbacks, sim_.solver().name());
     resetSimulation(why, /*automatic=*/true);
+    reset_since_input_ = true;
   }
   cullSpheres();
+}
+
+void ClothSimNode::publishState(const std_msgs::Header& header) {
+  const StepCounters counters{steps_since_reset_, monitor_.consecutiveFailures(),
+                              monitor_.divergenceResets()};
+  ClothState state = toClothState(sim_, last_report_, counters, header);
+  state.notice = held_notice_;
+  if (!reconfigure_notice_.empty()) {
+    state.notice += (state.notice.empty() ? "" : "; ") + reconfigure_notice_;
+  }
+  addGraspInfo(state);
+  addColliderInfo(state);
+  state_pub_.publish(state);
+}
+
+void ClothSimNode::publishStateNow() {
+  std_msgs::Header header;
+  header.stamp = simStamp();
+  header.frame_id = options_.frame_id;
+  publishState(header);
 }
 
 void ClothSimNode::adaptSubsteps() {
@@ -239,7 +287,8 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
     std_msgs::Header header;
     header.stamp = simStamp();
     header.frame_id = options_.frame_id;
-    points_pub_.publish(toPointCloud(sim_.state().positions, sim_.model().triangles, header));
+    points_pub_.publish(toPointCloud(sim_.state().positions, sim_.model().triangles, header,
+                                     resolveThreads(sim_.solverSettings().threads)));
   }
   if (markers_pub_.getNumSubscribers() == 0) return;
   const double now = ros::SteadyTime::now().toSec();
@@ -261,7 +310,8 @@ void ClothSimNode::render(const ros::SteadyTimerEvent&) {
   std_msgs::Header header;
   header.stamp = ros::Time::now();
   header.frame_id = options_.frame_id;
-  MarkerBuild build = buildMarkers(scene, style_, header, shown_);
+  MarkerBuild build =
+      buildMarkers(scene, style_, header, shown_, resolveThreads(sim_.solverSettings().threads));
   if (build.sanitized > 0) {
     refuse(names::kMarkers,
            std::to_string(build.sanitized) + " non-finite numbers in the state were drawn as 0");
@@ -301,6 +351,49 @@ void ClothSimNode::resetSimulation(const std::string& why, bool automatic) {
     warnThrottled("automatic reset", "cloth reset to the initial shape of scene '" + scene_name_ +
                                          "', pins and spheres kept: " + why);
   }
+}
+
+void ClothSimNode::userInput() {
+  reset_since_input_ = false;
+  held_notice_.clear();
+  kept_in_row_ = 0;  // stable means kStableFrames kept frames after the last input
+}
+
+std::string ClothSimNode::holdInputs() {
+  std::string held;
+  auto add = [&held](const std::string& what) { held += (held.empty() ? "" : ", ") + what; };
+  ClothSimConfig config = stable_config_;
+  for (const FieldOutcome& f : bridge_.apply(config)) {
+    if (f.applied) add(f.field + " back to its last stable value");
+  }
+  // The cloth starts again from its initial shape, and nothing may pull it from there: each pin
+  // whose target is away from its particle's initial position is held there, each moving
+  // kinematic sphere stopped.
+  clock_.restart(sim_.state().time);  // ROS time goes on from here, never back
+  sim_.resetCloth();
+  steps_since_reset_ = 0;
+  monitor_.clearFailures();
+  constexpr double kPull = 1e-3;  // m
+  for (const Pin& pin : sim_.pins().pins()) {
+    if (sim_.isGrasped(pin.id)) continue;
+    const Vec3 rest = sim_.initialPositions().col(pin.vertex);
+    if ((pin.target - rest).norm() <= kPull) continue;
+    char text[200];
+    std::snprintf(text, sizeof text, "pin %d's target (%.3g, %.3g, %.3g) m held at (%.3g, %.3g, %.3g) m",
+                  pin.id, pin.target.x(), pin.target.y(), pin.target.z(), rest.x(), rest.y(),
+                  rest.z());
+    sim_.movePin(pin.id, rest);
+    add(text);
+  }
+  std::vector<SphereCollider> moving;
+  for (const SphereCollider& sphere : sim_.colliders().spheres()) {
+    if (!sphere.isDynamic() && sphere.velocity.norm() > 0.0) moving.push_back(sphere);
+  }
+  for (const SphereCollider& sphere : moving) {
+    sim_.moveSphere(sphere.id, sphere.center, Vec3::Zero());
+    add("sphere " + std::to_string(sphere.id) + " stopped");
+  }
+  return held;
 }
 
 void ClothSimNode::cullSpheres() {
@@ -346,6 +439,8 @@ void ClothSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status)
   in.grasps = sim_.grasps().size();
   in.paused = paused_;
   in.stale_grasp_frames = grasp_frames_.staleFrames();
+  in.frame_deadline = sim_.frameDeadline();
+  in.notice = held_notice_;
   const DiagnosticsReport report = diagnosticsReport(in);
   status.summary(static_cast<std::uint8_t>(report.level), report.message);
   for (const auto& [key, value] : report.values) status.add(key, value);
@@ -362,14 +457,21 @@ void ClothSimNode::logSummary(const ros::SteadyTimerEvent&) {
 
 void ClothSimNode::onReconfigure(ClothSimConfig& config, std::uint32_t /*level*/) {
   // A refused field is put back to the value in use, which the server then reports to every
-  // client.
+  // client (the response of the request too), and cloth/state's notice says why until the next
+  // request.
+  std::string refused;
   for (const FieldOutcome& f : bridge_.apply(config)) {
+    if (f.applied) userInput();
     if (f.applied) {
       ROS_INFO("%s: %s changed", names::kReconfigure, f.field.c_str());
     } else {
       refuse(std::string(names::kReconfigure) + " " + f.field, f.why);
+      refused += (refused.empty() ? "" : "; ") + std::string(names::kReconfigure) + " " +
+                 f.field + " refused, kept: " + f.why;
     }
   }
+  reconfigure_notice_ = refused;
+  if (state_pub_) publishStateNow();  // latched: seen at once, paused or not
 }
 
 }  // namespace cloth_sim::node

@@ -93,6 +93,8 @@ ClothState toClothState(const Simulation& sim, const StepReport& report,
   s.error_tolerance = report.error_tolerance;
   s.tolerance_unreachable = report.tolerance_unreachable;
   s.substeps = report.substeps;
+  s.cut_substeps = report.cut_substeps;
+  s.merged_substeps = report.merged_substeps;
   s.convergence = report.convergence;
   s.converged = report.converged;
   s.max_strain = report.max_strain;

@@ -56,12 +56,26 @@ DiagnosticsReport diagnosticsReport(const DiagnosticsInput& in) {
   add("spheres", std::to_string(in.spheres));
   add("grasps", std::to_string(in.grasps));
   add("paused", in.paused ? "yes" : "no");
+  add("frame deadline (ms)", fixed3(1e3 * in.frame_deadline));
+  add("frames cut at the deadline", std::to_string(w.cut));
   auto warn = [&r](const std::string& what) {  // as DiagnosticStatusWrapper::mergeSummary(WARN)
     r.message = r.level != Health::kOk && !r.message.empty() ? r.message + "; " + what : what;
     r.level = std::max(r.level, Health::kWarn);
   };
   if (in.tolerance_unreachable) {
     warn("the error tolerance needs more substeps than the maximum or the frame budget allow");
+  }
+  if (w.cut > 0) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "%d of %d frames cut at the %.0f ms frame deadline: the settings ask for more "
+                  "work than a frame can hold (fewer iterations or substeps)",
+                  w.cut, w.steps, 1e3 * in.frame_deadline);
+    warn(text);
+  }
+  if (!in.notice.empty()) {
+    warn(in.notice);
+    add("held input", in.notice);
   }
   if (!in.stale_grasp_frames.empty()) {
     std::string frames;

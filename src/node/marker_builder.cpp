@@ -7,6 +7,9 @@
 
 #include <Eigen/Geometry>
 
+#include "cloth_sim/core/linalg/parallel.h"
+#include "cloth_sim/node/point_cloud.h"
+
 namespace cloth_sim::node {
 namespace {
 
@@ -28,6 +31,7 @@ class Sanitizer {
     return p;
   }
   int count() const { return count_; }
+  void add(int count) { count_ += count; }
 
  private:
   int count_ = 0;
@@ -69,22 +73,6 @@ Marker makeSphere(const std_msgs::Header& header, const char* ns, int id, const 
   return m;
 }
 
-/// Area-weighted vertex normals (unit, or zero where undefined).
-Points vertexNormals(const Points& x, const Eigen::Matrix3Xi& triangles) {
-  Points normals = Points::Zero(3, x.cols());
-  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
-    const Vec3 a = x.col(triangles(0, t)), b = x.col(triangles(1, t)), c = x.col(triangles(2, t));
-    const Vec3 n = (b - a).cross(c - a);
-    if (!n.allFinite()) continue;
-    for (int k = 0; k < 3; ++k) normals.col(triangles(k, t)) += n;
-  }
-  for (Eigen::Index i = 0; i < normals.cols(); ++i) {
-    const double norm = normals.col(i).norm();
-    if (norm > 0.0) normals.col(i) /= norm;
-  }
-  return normals;
-}
-
 void checkSizes(const MarkerScene& scene) {
   const Eigen::Index n = scene.positions.cols();
   if (scene.strain.size() != n) {
@@ -99,36 +87,45 @@ void checkSizes(const MarkerScene& scene) {
 }
 
 Marker makeCloth(const MarkerScene& scene, const MarkerStyle& style,
-                 const std_msgs::Header& header, Sanitizer& sanitize) {
+                 const std_msgs::Header& header, Sanitizer& sanitize, int threads) {
   Marker m = makeMarker(header, names::kClothNs, 0, Marker::TRIANGLE_LIST);
   const Points normals =
-      style.shading ? vertexNormals(scene.positions, scene.triangles) : Points();
+      style.shading ? vertexNormals(scene.positions, scene.triangles, threads, true) : Points();
   // One colour per particle, shared by the triangle corners that meet there.
   std::vector<std_msgs::ColorRGBA> colors(scene.positions.cols());
   // Shaded: a light blue-grey cloth (a cloth lying on a sphere reads as cloth, not as a red
   // ball); the shading below then gives the shape.
   const std_msgs::ColorRGBA plain = rgba(0.62, 0.70, 0.82, 1.0);
-  for (Eigen::Index i = 0; i < scene.positions.cols(); ++i) {
-    colors[i] = style.color_mode == ColorMode::kShaded
-                    ? plain
-                    : strainColor(scene.strain[i], style.strain_color_scale);
-    if (style.shading) {
-      const auto f = static_cast<float>(shadeFactor(normals.col(i)));
-      colors[i].r *= f;
-      colors[i].g *= f;
-      colors[i].b *= f;
+  const BlockSplit particles(static_cast<std::size_t>(scene.positions.cols()), 4096);
+  parallelFor(threads, particles.blocks(), [&](int b) {
+    for (std::size_t i = particles.begin(b); i < particles.end(b); ++i) {
+      colors[i] = style.color_mode == ColorMode::kShaded
+                      ? plain
+                      : strainColor(scene.strain[i], style.strain_color_scale);
+      if (style.shading) {
+        const auto f = static_cast<float>(shadeFactor(normals.col(i)));
+        colors[i].r *= f;
+        colors[i].g *= f;
+        colors[i].b *= f;
+      }
     }
-  }
-  const Eigen::Index count = 3 * scene.triangles.cols();
-  m.points.reserve(count);
-  m.colors.reserve(count);
-  for (Eigen::Index t = 0; t < scene.triangles.cols(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      const int i = scene.triangles(k, t);
-      m.points.push_back(sanitize.point(scene.positions.col(i)));
-      m.colors.push_back(colors[i]);
+  });
+  // Three corners per triangle, each block of triangles into its own place; each block counts
+  // its own non-finite numbers.
+  m.points.resize(3 * scene.triangles.cols());
+  m.colors.resize(m.points.size());
+  const BlockSplit triangles(static_cast<std::size_t>(scene.triangles.cols()), 4096);
+  std::vector<Sanitizer> sanitizers(triangles.blocks());
+  parallelFor(threads, triangles.blocks(), [&](int b) {
+    for (std::size_t t = triangles.begin(b); t < triangles.end(b); ++t) {
+      for (int k = 0; k < 3; ++k) {
+        const int i = scene.triangles(k, t);
+        m.points[3 * t + k] = sanitizers[b].point(scene.positions.col(i));
+        m.colors[3 * t + k] = colors[i];
+      }
     }
-  }
+  });
+  for (const Sanitizer& block : sanitizers) sanitize.add(block.count());
   return m;
 }
 
@@ -181,12 +178,12 @@ double shadeFactor(const Vec3& normal) {
 }
 
 MarkerBuild buildMarkers(const MarkerScene& scene, const MarkerStyle& style,
-                         const std_msgs::Header& header, const ShownMarkers& before) {
+                         const std_msgs::Header& header, const ShownMarkers& before, int threads) {
   checkSizes(scene);
   Sanitizer sanitize;
   MarkerBuild build;
   auto& out = build.markers.markers;
-  out.push_back(makeCloth(scene, style, header, sanitize));
+  out.push_back(makeCloth(scene, style, header, sanitize, threads));
 
   for (const Pin& pin : scene.pins) {
     const auto color = pin.isHard() ? rgba(1.0, 0.55, 0.0, 1.0) : rgba(0.95, 0.85, 0.1, 1.0);

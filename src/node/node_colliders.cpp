@@ -64,6 +64,7 @@ bool ClothSimNode::onMoveSphere(MoveSphere::Request& req, MoveSphere::Response& 
     moved.center = center;
     moved.velocity = velocity;
     limits_.checkSphere("", moved, sim_.substepTime());  // reach and speed, as at spawn
+    SceneLimits::checkSphereAroundPins("", moved, sim_.pins().pins(), sim_.state().positions);
     sim_.moveSphere(req.id, center, velocity);
     return "sphere " + std::to_string(req.id) + " moving to the new centre";
   });

@@ -24,8 +24,10 @@ void ClothSimNode::movePin(const char* source, int pin_id,
                            const geometry_msgs::PointStamped& target) {
   try {
     const Vec3 point = frames_.point(target, "target");
-    limits_.checkPoint("target", point);  // a target beyond reach would tear the cloth apart
+    // A target beyond the cloth's reach would stretch it past what it can follow.
+    limits_.checkPinTarget("target", point);
     sim_.movePin(pin_id, point);
+    userInput();
   } catch (const std::exception& e) {
     refuse(source, "pin " + std::to_string(pin_id) + ": " + e.what());
   }
@@ -42,6 +44,7 @@ bool ClothSimNode::onSpawnSphere(SpawnSphere::Request& req, SpawnSphere::Respons
     const Vec3 velocity = frames_.vector(req.center.header, req.velocity, "velocity");
     const SphereCollider sphere = sphereFromRequest(req, center, velocity);  // a valid sphere
     limits_.checkSphere("", sphere, sim_.substepTime());  // what the cloth can follow
+    SceneLimits::checkSphereAroundPins("", sphere, sim_.pins().pins(), sim_.state().positions);
     res.id = sim_.addSphere(sphere);
     return "sphere " + std::to_string(res.id) + " at " + str(center) + " m, radius " +
            std::to_string(sphere.radius) + " m, velocity " + str(velocity) + " m/s in '" +

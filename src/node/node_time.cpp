@@ -32,6 +32,7 @@ bool ClothSimNode::onPause(std_srvs::Trigger::Request&, std_srvs::Trigger::Respo
     const bool was = paused_;
     paused_ = true;
     step_timer_.stop();  // an idle node sleeps, whatever ~real_time_factor
+    publishStateNow();   // latched: a client subscribing while paused gets this state
     return std::string(was ? "already paused" : "paused") + " at t = " +
            std::to_string(sim_.state().time) + " s";
   });

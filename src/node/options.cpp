@@ -138,6 +138,11 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
   read.get("solver", o.solver);
   read.get("iterations", o.iterations);
   read.get("substeps", o.substeps);
+  if (private_params.valid() && private_params.hasMember("threads")) {
+    int threads = 0;
+    read.get("threads", threads);
+    o.threads = threads;
+  }
   if (private_params.valid() && private_params.hasMember("error_tolerance")) {
     double tolerance = 0.0;
     read.get("error_tolerance", tolerance);
@@ -159,6 +164,7 @@ NodeOptions parseNodeOptions(const XmlRpc::XmlRpcValue& private_params) {
   read.get("real_time_factor", o.real_time_factor);
   read.get("start_paused", o.start_paused);
   read.get("budget_ms", o.budget_ms);
+  read.get("frame_deadline_ms", o.frame_deadline_ms);
   read.get("grasp_frame_timeout", o.grasp_frame_timeout);
   read.get("force_arrow_scale", o.force_arrow_scale);
   read.get("marker_bandwidth", o.marker_bandwidth);
@@ -193,6 +199,7 @@ void validateNodeOptions(const NodeOptions& o) {
   } catch (const std::invalid_argument& e) {
     fail("color_mode", e.what());
   }
+  if (o.threads) settings::kThreads.require(*o.threads, "parameter '~threads':");
   // Every number against its rule, in the order of NodeOptions.
   for (const auto& [value, setting] :
        {std::pair<double, const Setting*>{o.render_rate, &settings::kRenderRate},
@@ -206,6 +213,7 @@ void validateNodeOptions(const NodeOptions& o) {
         {o.summary_period, &settings::kSummaryPeriod},
         {o.real_time_factor, &settings::kRealTimeFactor},
         {o.budget_ms, &settings::kFrameBudget},
+        {o.frame_deadline_ms, &settings::kFrameDeadline},
         {o.grasp_frame_timeout, &settings::kGraspFrameTimeout},
         {o.force_arrow_scale, &settings::kForceArrowScale},
         {o.marker_bandwidth, &settings::kMarkerBandwidth},
@@ -251,6 +259,7 @@ SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir) 
   if (options.substeps > 0) overrides.substeps = options.substeps;
   overrides.error_tolerance = options.error_tolerance;
   overrides.self_collision = options.self_collision;
+  overrides.threads = options.threads;
   return applyOverrides(std::move(scene), overrides);
 }
 

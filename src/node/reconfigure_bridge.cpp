@@ -1,6 +1,8 @@
 #include "cloth_sim/node/reconfigure_bridge.h"
 
+#include <cstdio>
 #include <exception>
+#include <stdexcept>
 
 #include "cloth_sim/core/settings/settings_table.h"
 
@@ -35,15 +37,29 @@ void applyField(const std::string& name, T ClothSimConfig::*field, ClothSimConfi
 
 }  // namespace
 
-std::optional<FrameBudget> frameBudgetFor(double budget_ms) {
-  settings::kFrameBudget.require(budget_ms);
+std::optional<FrameBudget> frameBudgetFor(double budget_ms, double frame_s,
+                                          const std::string& what) {
+  settings::kFrameBudget.require(budget_ms, what);
   if (!(budget_ms > 0.0)) return std::nullopt;
+  if (budget_ms > 1e3 * frame_s) {
+    // A budget beyond the frame lets the substeps grow until the simulation runs slower than
+    // real time (100 ms on a 16.7 ms frame: 259 substeps, 0.26x real time).
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "%s %g must be at most the frame, %.3f ms (the scene's time_step: a frame "
+                  "that takes longer than its period runs slower than real time)",
+                  what.c_str(), budget_ms, 1e3 * frame_s);
+    throw std::invalid_argument(buf);
+  }
   return FrameBudget(1e-3 * budget_ms, 1, settings::kSubsteps.range.max);
 }
 
 ReconfigureBridge::ReconfigureBridge(Simulation& sim, std::optional<FrameBudget>& budget,
                                      ColorMode& color_mode)
-    : sim_(sim), budget_(budget), color_mode_(color_mode) {}
+    : sim_(sim),
+      budget_(budget),
+      color_mode_(color_mode),
+      configured_substeps_(sim.solverSettings().substeps) {}
 
 ClothSimConfig ReconfigureBridge::current() const {
   ClothSimConfig c;
@@ -84,8 +100,13 @@ std::vector<FieldOutcome> ReconfigureBridge::apply(ClothSimConfig& config) {
   };
   applyField("iterations", &ClothSimConfig::iterations, config, was,
              solverSetting(&SolverSettings::max_iterations), out);
-  applyField("substeps", &ClothSimConfig::substeps, config, was,
-             solverSetting(&SolverSettings::substeps), out);
+  applyField(
+      "substeps", &ClothSimConfig::substeps, config, was,
+      [&](int substeps) {
+        solverSetting(&SolverSettings::substeps)(substeps);
+        configured_substeps_ = substeps;  // what budget_ms 0 comes back to
+      },
+      out);
   applyField(
       "error_tolerance", &ClothSimConfig::error_tolerance, config, was,
       [&](double tolerance) {
@@ -96,7 +117,13 @@ std::vector<FieldOutcome> ReconfigureBridge::apply(ClothSimConfig& config) {
       out);
   applyField(
       "budget_ms", &ClothSimConfig::budget_ms, config, was,
-      [&](double ms) { budget_ = frameBudgetFor(ms); }, out);
+      [&](double ms) {
+        std::optional<FrameBudget> next = frameBudgetFor(ms, sim_.frameTime());
+        const bool turned_off = budget_.has_value() && !next.has_value();
+        budget_ = std::move(next);
+        if (turned_off) restoreConfiguredSubsteps();
+      },
+      out);
   applyField(
       "self_collision", &ClothSimConfig::self_collision, config, was,
       [&](bool on) {
@@ -106,6 +133,18 @@ std::vector<FieldOutcome> ReconfigureBridge::apply(ClothSimConfig& config) {
       },
       out);
   return out;
+}
+
+void ReconfigureBridge::restoreConfiguredSubsteps() {
+  SolverSettings settings = sim_.solverSettings();
+  if (configured_substeps_ == 0 || settings.automaticSubsteps()) {
+    // The error controller chooses again, up to its own cap.
+    sim_.setSubstepLimit(Simulation::kMaxAutomaticSubsteps);
+    return;
+  }
+  if (settings.substeps == configured_substeps_) return;
+  settings.substeps = configured_substeps_;
+  sim_.setSolverSettings(settings);  // a count it accepted before
 }
 
 }  // namespace cloth_sim::node

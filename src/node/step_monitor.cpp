@@ -13,8 +13,9 @@ StepMonitor::StepMonitor(double budget, int max_rollbacks)
   window_.budget = budget_;
 }
 
-bool StepMonitor::record(bool rolled_back, double seconds) {
+bool StepMonitor::record(bool rolled_back, double seconds, bool cut) {
   ++window_.steps;
+  if (cut) ++window_.cut;
   window_time_sum_ += seconds;
   window_.max_time = std::max(window_.max_time, seconds);
   if (seconds > budget_) {
@@ -32,6 +33,11 @@ bool StepMonitor::record(bool rolled_back, double seconds) {
   ++divergence_resets_;
   ++window_.resets;
   return true;
+}
+
+void StepMonitor::holdInsteadOfReset() {
+  if (divergence_resets_ > 0) --divergence_resets_;
+  if (window_.resets > 0) --window_.resets;
 }
 
 StepWindow StepMonitor::takeWindow() {

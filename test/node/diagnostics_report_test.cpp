@@ -60,7 +60,9 @@ TEST(DiagnosticsReport, AHealthyWindowIsOkWithEveryValueInOrder) {
                               "pins",
                               "spheres",
                               "grasps",
-                              "paused"};
+                              "paused",
+                              "frame deadline (ms)",
+                              "frames cut at the deadline"};
   ASSERT_EQ(r.values.size(), std::size(keys));
   for (std::size_t k = 0; k < std::size(keys); ++k) EXPECT_EQ(r.values[k].first, keys[k]);
   EXPECT_EQ(valueOf(r, "scene"), "hanging");
@@ -92,6 +94,29 @@ TEST(DiagnosticsReport, TheLevelAndMessageAreTheMonitorsAssessment) {
   EXPECT_EQ(diagnosticsReport(in).level, Health::kWarn);  // no step: stalled (or paused)
   EXPECT_EQ(valueOf(diagnosticsReport(in), "paused"), "yes");
   EXPECT_EQ(valueOf(diagnosticsReport(in), "frame budget (ms)"), "2.500");
+}
+
+TEST(DiagnosticsReport, FramesCutAtTheDeadlineWarnWithTheirCount) {
+  DiagnosticsInput in = healthy();
+  in.frame_deadline = 0.2;
+  EXPECT_EQ(valueOf(diagnosticsReport(in), "frame deadline (ms)"), "200.000");
+  EXPECT_EQ(diagnosticsReport(in).level, Health::kOk);
+  in.window.cut = 4;
+  const DiagnosticsReport r = diagnosticsReport(in);
+  EXPECT_EQ(r.level, Health::kWarn);
+  EXPECT_EQ(r.message,
+            "4 of 60 frames cut at the 200 ms frame deadline: the settings ask for more work than "
+            "a frame can hold (fewer iterations or substeps)");
+  EXPECT_EQ(valueOf(r, "frames cut at the deadline"), "4");
+}
+
+TEST(DiagnosticsReport, AHeldInputWarnsAndSaysWhich) {
+  DiagnosticsInput in = healthy();
+  in.notice = "pin 0: target held at (0, 0, 0.7) m: it led to 2 resets";
+  const DiagnosticsReport r = diagnosticsReport(in);
+  EXPECT_EQ(r.level, Health::kWarn);
+  EXPECT_EQ(r.message, in.notice);
+  EXPECT_EQ(valueOf(r, "held input"), in.notice);
 }
 
 TEST(DiagnosticsReport, AToleranceOutOfReachWarnsAndSaysSo) {

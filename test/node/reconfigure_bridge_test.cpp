@@ -162,13 +162,77 @@ TEST(ReconfigureBridge, ARefusedFieldIsPutBackWithTheCoresReasonAndTheOthersStil
   }
 }
 
-TEST(ReconfigureBridge, FrameBudgetForIsOffAtZeroAndKeepsToItsRange) {
-  EXPECT_FALSE(frameBudgetFor(0.0).has_value());
-  const std::optional<FrameBudget> b = frameBudgetFor(0.3);
+TEST(ReconfigureBridge, FrameBudgetForIsOffAtZeroAndKeepsWithinTheFrame) {
+  const double frame = 1.0 / 60.0;
+  EXPECT_FALSE(frameBudgetFor(0.0, frame).has_value());
+  const std::optional<FrameBudget> b = frameBudgetFor(0.3, frame);
   ASSERT_TRUE(b.has_value());
   EXPECT_DOUBLE_EQ(b->budget(), 3e-4);
-  EXPECT_THROW(frameBudgetFor(-1.0), std::invalid_argument);
-  EXPECT_THROW(frameBudgetFor(1e4), std::invalid_argument);
+  EXPECT_TRUE(frameBudgetFor(1e3 * frame, frame).has_value());  // the whole frame
+  EXPECT_THROW(frameBudgetFor(-1.0, frame), std::invalid_argument);
+  EXPECT_THROW(frameBudgetFor(1e4, frame), std::invalid_argument);
+  // Above the frame: it let the substeps grow to 259 at 100 ms (0.26x real time).
+  try {
+    frameBudgetFor(100.0, frame, "parameter '~budget_ms':");
+    ADD_FAILURE() << "100 ms on a 16.7 ms frame accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("parameter '~budget_ms': 100 must be at most the frame, "
+                                         "16.667 ms"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(ReconfigureBridge, ABudgetAboveTheFrameIsRefusedAndTheValueInUseReported) {
+  Fixture f;
+  ClothSimConfig c = f.bridge.current();
+  c.budget_ms = 100.0;
+  const std::vector<FieldOutcome> outcomes = f.bridge.apply(c);
+  ASSERT_EQ(outcomes.size(), 1u);
+  EXPECT_FALSE(outcomes[0].applied);
+  EXPECT_NE(outcomes[0].why.find("budget_ms 100 must be at most the frame"), std::string::npos)
+      << outcomes[0].why;
+  EXPECT_EQ(c.budget_ms, 0.0);
+  EXPECT_FALSE(f.budget.has_value());
+}
+
+TEST(ReconfigureBridge, TurningTheBudgetOffRestoresTheConfiguredSubsteps) {
+  Fixture f;
+  ClothSimConfig c = f.bridge.current();
+  c.substeps = 4;
+  f.bridge.apply(c);
+  c = f.bridge.current();
+  c.budget_ms = 5.0;
+  for (const FieldOutcome& o : f.bridge.apply(c)) EXPECT_TRUE(o.applied) << o.why;
+  // The node's budget picks 259 substeps (as the node's adaptSubsteps does).
+  SolverSettings chosen = f.sim.solverSettings();
+  chosen.substeps = 259;
+  f.sim.setSolverSettings(chosen);
+  EXPECT_EQ(f.bridge.configuredSubsteps(), 4);
+  c = f.bridge.current();
+  EXPECT_EQ(c.substeps, 259);
+  c.budget_ms = 0.0;
+  for (const FieldOutcome& o : f.bridge.apply(c)) EXPECT_TRUE(o.applied) << o.why;
+  EXPECT_FALSE(f.budget.has_value());
+  EXPECT_EQ(f.sim.solverSettings().substeps, 4) << "the budget's last choice was left in place";
+  EXPECT_EQ(f.sim.substeps(), 4);
+  EXPECT_EQ(f.bridge.current().substeps, 4);
+
+  // With automatic substeps the budget limits the controller; off gives it its own cap back.
+  c = f.bridge.current();
+  c.error_tolerance = 1e-4;  // first: substeps 0 needs a tolerance (applied after substeps)
+  for (const FieldOutcome& o : f.bridge.apply(c)) EXPECT_TRUE(o.applied) << o.why;
+  c = f.bridge.current();
+  c.substeps = 0;
+  c.budget_ms = 5.0;
+  for (const FieldOutcome& o : f.bridge.apply(c)) EXPECT_TRUE(o.applied) << o.why;
+  f.sim.setSubstepLimit(3);
+  ASSERT_EQ(f.sim.substepLimit(), 3);
+  c = f.bridge.current();
+  c.budget_ms = 0.0;
+  for (const FieldOutcome& o : f.bridge.apply(c)) EXPECT_TRUE(o.applied) << o.why;
+  EXPECT_EQ(f.sim.substepLimit(), Simulation::kMaxAutomaticSubsteps);
+  EXPECT_TRUE(f.sim.solverSettings().automaticSubsteps());
 }
 
 }  // namespace

@@ -129,13 +129,19 @@ TEST(Reconfigure, AFrameBudgetPicksTheSubstepsAndOffLeavesThemAlone) {
   EXPECT_EQ(doubleIn(reconfigure("budget_ms", 0.3), "budget_ms"), 0.3);
   const auto fitted = p.waitForState([](const ClothState& c) { return c.substeps < 400; }, 5.0);
   ASSERT_TRUE(fitted) << "still " << p.latestState().substeps << " substeps";
-  // Off: the substeps stay what the user sets.
+  // Off: the configured 400 substeps come back (the budget's choice was left in place), and
+  // then they stay what the user sets.
   EXPECT_EQ(doubleIn(reconfigure("budget_ms", 0.0), "budget_ms"), 0.0);
+  EXPECT_TRUE(p.waitForState([](const ClothState& c) { return c.substeps == 400; }, 5.0))
+      << "still " << p.latestState().substeps << " substeps";
+  // A budget longer than the 16.7 ms frame is refused; the server reports 0, the value kept.
+  EXPECT_EQ(doubleIn(reconfigure("budget_ms", 100.0), "budget_ms"), 0.0);
+  EXPECT_TRUE(p.waitForLog("budget_ms 100 must be at most the frame", 5.0));
   reconfigure("substeps", 1);
   ASSERT_TRUE(p.waitForState([](const ClothState& c) { return c.substeps == 1; }, 3.0));
   for (const ClothState& c : p.collectStates(1.5)) EXPECT_EQ(c.substeps, 1);
   // A generous budget lets them grow (by a quarter at most, after half a second under it).
-  reconfigure("budget_ms", 50.0);
+  reconfigure("budget_ms", 16.0);
   EXPECT_TRUE(p.waitForState([](const ClothState& c) { return c.substeps > 1; }, 5.0))
       << "still " << p.latestState().substeps << " substeps";
   reconfigure("budget_ms", 0.0);

@@ -48,6 +48,21 @@ TEST(StepMonitor, ResetsAfterMaxRollbacksInARowOnly) {
   EXPECT_EQ(w.resets, 1);
 }
 
+TEST(StepMonitor, AHoldReplacesTheResetAndCutFramesAreCounted) {
+  StepMonitor m(kBudget, 2);
+  EXPECT_FALSE(m.record(true, 0.001));
+  EXPECT_TRUE(m.record(true, 0.001));
+  EXPECT_EQ(m.divergenceResets(), 1u);
+  EXPECT_FALSE(m.record(true, 0.001));
+  EXPECT_TRUE(m.record(true, 0.001));  // the same cause again: the node holds it instead
+  m.holdInsteadOfReset();
+  EXPECT_EQ(m.divergenceResets(), 1u);
+  EXPECT_FALSE(m.record(false, 0.3, /*cut=*/true));
+  const StepWindow w = m.takeWindow();
+  EXPECT_EQ(w.resets, 1);
+  EXPECT_EQ(w.cut, 1);
+}
+
 TEST(StepMonitor, ClearFailuresForgetsTheRun) {
   StepMonitor m(kBudget, 2);
   EXPECT_FALSE(m.record(true, 0.001));

@@ -95,6 +95,24 @@ TEST(RunScene, ARunTooLongToCountIsRefused) {
   EXPECT_EQ(run("--scene " + kScene + " --substeps 0 --error-tolerance 0"), 1);
 }
 
+int runCapturing(const std::string& dir, const std::string& args, std::string& err);
+
+TEST(RunScene, ToleranceIsInZeroToOne) {
+  // A relative change is 1 at the first iteration: --tolerance 2 stopped every step after one
+  // iteration without a word. Now [0, 1), refused naming the option and the rule.
+  const std::string dir = ::testing::TempDir() + "cloth_sim_run_tolerance";
+  ASSERT_EQ(std::system(("mkdir -p '" + dir + "'").c_str()), 0);
+  for (const char* bad : {"2", "1", "-0.1", "nan"}) {
+    std::string err;
+    EXPECT_EQ(runCapturing(dir, "--scene " + kScene + " --duration 0.05 --tolerance " + bad, err), 1)
+        << bad;
+    EXPECT_NE(err.find("--tolerance"), std::string::npos) << err;
+    EXPECT_NE(err.find("must be in [0, 1)"), std::string::npos) << err;
+  }
+  EXPECT_EQ(run("--scene " + kScene + " --duration 0.05 --tolerance 0.999"), 0);
+  EXPECT_EQ(run("--scene " + kScene + " --duration 0.05 --tolerance 0"), 0);
+}
+
 TEST(RunScene, IntegratorOptionRunsBdf2AndRefusesWhatCannotUseIt) {
   EXPECT_EQ(run("--scene " + kScene + " --duration 0.05 --integrator bdf2"), 0);
   EXPECT_EQ(run("--scene " + kScene + " --integrator bdf3"), 1);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -43,13 +44,19 @@ struct Config {
   Integrator integrator = Integrator::kImplicitEuler;
   bool warm = false;  ///< SolverSettings::warm_start
   double error_tolerance = 0.0;  ///< m per frame; > 0: substeps 0 (chosen by the estimate)
+  /// The scene format's default as a user gets it (no solver block: error control, BDF2, a
+  /// tolerance of kDefaultRelativeErrorTolerance x the cloth's size); labelled "default".
+  bool scene_default = false;
+  bool errorControlled() const { return scene_default || error_tolerance > 0.0; }
   /// The solver column: "local_global", "local_global/bdf2", "anderson+warm/bdf2".
   std::string name() const {
+    if (scene_default) return "default";
     const std::string base = warm ? solver + "+warm" : solver;
     return integrator == Integrator::kImplicitEuler ? base
                                                     : base + "/" + integratorName(integrator);
   }
   std::string label() const {
+    if (scene_default) return name();
     if (error_tolerance > 0.0) {
       char text[32];
       std::snprintf(text, sizeof text, " e%g", error_tolerance);
@@ -76,17 +83,77 @@ Sample sampleOf(const Simulation& sim) {
   return s;
 }
 
-/// Runs @p scene with @p config frame by frame (a frame is the scene's time step) and samples
-/// it at the end of the frames in @p sample_frames (increasing).
-Trajectory run(SceneConfig scene, const Config& config, const std::vector<int>& sample_frames,
-               double max_frame_ms) {
-  // Substeps as the user sets them (solver.substeps); a reference finer than that setting
-  // allows takes the frame as its step instead (nothing moves kinematically in these scenes).
+/// One frame's local error: the frame run from the configuration's own state, against the
+/// true motion from that same state over the same frame.
+struct LocalError {
+  int frame = 0;
+  int substeps = 0;         ///< of that frame
+  double estimate = 0.0;    ///< m, StepReport::error_estimate of the frame
+  double truth = 0.0;       ///< m, RMS over the free particles of (frame's result - true motion)
+  double reference_error = 0.0;  ///< m, the true motion's own error (see trueFrame)
+};
+
+/// Where and how local errors are measured during a run (error-controlled configurations).
+struct LocalErrorProbe {
+  SceneConfig scene;         ///< the case's scene: the reference simulation is built from it
+  std::vector<int> frames;   ///< frames (1-based, increasing) whose local error is measured
+  int substeps = 64;         ///< the reference's finer run takes 2 x this substeps
+};
+
+/// The motion over one frame from @p sim's current state, as implicit Euler converged
+/// (chebyshev, relative change 1e-9) at n and 2n substeps combined by Richardson extrapolation
+/// (2 x_2n - x_n, second order); @p own_error gets RMS(x_2n - x_n) (about x_2n's error; the
+/// extrapolation's own error was measured 50x below it on flag-32: docs/benchmark.md).
+Points trueFrame(const Simulation& sim, Simulation& reference, int n, double& own_error) {
+  const auto frame_with = [&](int substeps) {
+    SimulationSnapshot snap = sim.snapshot();
+    snap.options.solver = "chebyshev";
+    SolverSettings& s = snap.options.settings;
+    s.substeps = substeps;
+    s.max_iterations = 2000;
+    s.tolerance = 1e-9;
+    s.error_tolerance = 0.0;
+    s.integrator = Integrator::kImplicitEuler;
+    snap.substeps = substeps;
+    snap.state.has_previous = false;
+    reference.restore(snap);
+    reference.step();
+    return Points(reference.state().positions);
+  };
+  const Points coarse = frame_with(n), fine = frame_with(2 * n);
+  own_error = std::sqrt((fine - coarse).colwise().squaredNorm().mean());
+  return 2.0 * fine - coarse;
+}
+
+/// RMS distance (m) between @p a and @p b over the particles @p sim does not hold by a hard pin.
+double freeRms(const Simulation& sim, const Points& a, const Points& b) {
+  std::vector<char> held(static_cast<std::size_t>(a.cols()), 0);
+  for (const Pin& pin : sim.pins().pins()) {
+    if (pin.isHard()) held[pin.vertex] = 1;
+  }
+  double sum = 0.0;
+  int count = 0;
+  for (Eigen::Index i = 0; i < a.cols(); ++i) {
+    if (held[i]) continue;
+    sum += (a.col(i) - b.col(i)).squaredNorm();
+    ++count;
+  }
+  return count > 0 ? std::sqrt(sum / count) : 0.0;
+}
+
+/// @p scene as it runs under @p config (substeps as the user sets them; a reference finer than
+/// that setting allows takes the frame as its step instead, see run()).
+SceneConfig configured(SceneConfig scene, const Config& config) {
+  if (config.scene_default) {  // as a scene with no solver block
+    scene.options.solver = defaultSceneOptions().solver;
+    scene.options.settings = defaultSceneOptions().settings;
+    scene.given = SolverFieldsGiven{};
+    return scene;
+  }
   const bool as_setting = settings::kSubsteps.allows(config.substeps);
   SceneOverrides overrides;
   overrides.substeps = as_setting ? config.substeps : 1;
   if (!as_setting) overrides.time_step = scene.time_step / config.substeps;
-  const int steps_per_frame = as_setting ? 1 : config.substeps;
   overrides.solver = config.solver;
   overrides.iterations = config.iterations;
   overrides.tolerance = config.tolerance;
@@ -94,19 +161,52 @@ Trajectory run(SceneConfig scene, const Config& config, const std::vector<int>& 
   overrides.warm_start = config.warm;
   overrides.error_tolerance = config.error_tolerance;
   if (config.error_tolerance > 0.0) overrides.substeps = 0;
-  Simulation sim = makeSimulation(applyOverrides(std::move(scene), overrides));
+  return applyOverrides(std::move(scene), overrides);
+}
+
+/// Runs @p scene with @p config frame by frame (a frame is the scene's time step) and samples
+/// it at the end of the frames in @p sample_frames (increasing). With a @p probe, the local
+/// error of the probe's frames is measured too (@p local_errors).
+Trajectory run(const SceneConfig& scene, const Config& config,
+               const std::vector<int>& sample_frames, double max_frame_ms,
+               const LocalErrorProbe* probe = nullptr,
+               std::vector<LocalError>* local_errors = nullptr) {
+  // Substeps as the user sets them (solver.substeps); a reference finer than that setting
+  // allows takes the frame as its step instead (nothing moves kinematically in these scenes).
+  const bool as_setting = config.scene_default || settings::kSubsteps.allows(config.substeps);
+  const int steps_per_frame = as_setting ? 1 : config.substeps;
+  Simulation sim = makeSimulation(configured(scene, config));
+  std::optional<Simulation> reference;
+  if (probe != nullptr) reference.emplace(makeSimulation(probe->scene));
+  std::size_t next = 0, next_probe = 0;
   Trajectory t;
-  std::size_t next = 0;
   for (int f = 1; next < sample_frames.size(); ++f) {
+    const bool probed = probe != nullptr && next_probe < probe->frames.size() &&
+                        probe->frames[next_probe] == f;
+    LocalError local;
+    Points truth;
+    if (probed) truth = trueFrame(sim, *reference, probe->substeps, local.reference_error);
     const double start = now(), cpu_start = threadCpuNow();
+    double frame_estimate = 0.0;
+    int frame_substeps = 0;
     for (int s = 0; s < steps_per_frame; ++s) {
-        const StepReport report = sim.step();
+      const StepReport report = sim.step();
       if (report.status != StepStatus::kOk) ++t.rollbacks;
-      t.substeps_sum += report.substeps;
-      t.estimate_sum += report.error_estimate;
+      frame_substeps += report.substeps;
+      frame_estimate += report.error_estimate;
     }
     t.frame_ms.push_back(1e3 * (now() - start));
     t.frame_cpu_ms.push_back(1e3 * (threadCpuNow() - cpu_start));
+    t.substeps_sum += frame_substeps;
+    t.estimate_sum += frame_estimate;
+    if (probed) {
+      local.frame = f;
+      local.substeps = frame_substeps;
+      local.estimate = frame_estimate;
+      local.truth = freeRms(sim, sim.state().positions, truth);
+      local_errors->push_back(local);
+      ++next_probe;
+    }
     if (f == sample_frames[next]) {
       t.samples.push_back(sampleOf(sim));
       ++next;
@@ -246,6 +346,12 @@ void progress(int done, int total, const std::string& what) {
 
 std::vector<Config> configsFor(const AccuracyOptions& o, int grid) {
   std::vector<Config> configs;
+  if (o.scene_default) {
+    Config c;
+    c.scene_default = true;
+    configs.push_back(c);
+  }
+  if (o.default_only) return configs;
   for (const std::string& name : o.integrators) {
     const Integrator integrator = integratorFromName(name);
     for (const std::string& solver : o.solvers) {
@@ -301,6 +407,9 @@ void runAccuracy(const AccuracyOptions& o) {
          "max_strain,ref_mean_strain,ref_max_strain,frame_ms_median,frame_ms_p10,frame_ms_p90,"
          "rollbacks,status,cpu_ms_median,cpu_ms_p10,cpu_ms_p90,error_tolerance,mean_substeps,"
          "estimate_sum\n";
+  std::ofstream local_csv(o.out_dir + "/local_error.csv");
+  local_csv << "case,solver,error_tolerance,frame,time,substeps,estimate,true_error,"
+               "reference_error\n";
   std::ofstream ref_csv(o.out_dir + "/accuracy_reference.csv");
   ref_csv << "case,particles,diagonal,reference,h_ref,time,floor_rms,floor_max,floor_com,energy,"
              "mean_strain,max_strain\n";
@@ -346,11 +455,27 @@ void runAccuracy(const AccuracyOptions& o) {
                   2 * ref_substeps / frame, o.times.front(),
                   100.0 * rms(coarse.front().positions, ref.front().positions) / size);
 
+      LocalErrorProbe probe{c.config, {}, o.local_error_substeps};
+      const int last = static_cast<int>(std::lround(o.local_error_until / frame));
+      for (int k = 1; k <= o.local_error_frames; ++k) {
+        probe.frames.push_back(std::max(1, last * k / o.local_error_frames));
+      }
+      const double default_tolerance = kDefaultRelativeErrorTolerance * size;
       const std::vector<Config> configs = configsFor(o, grid);
       for (std::size_t n = 0; n < configs.size(); ++n) {
         const Config& cfg = configs[n];
         progress(static_cast<int>(n), static_cast<int>(configs.size()), c.name + " " + cfg.label());
-        const Trajectory t = run(c.config, cfg, frames, o.max_frame_ms);
+        std::vector<LocalError> local;
+        const bool probed = cfg.errorControlled() && !probe.frames.empty();
+        const Trajectory t =
+            run(c.config, cfg, frames, o.max_frame_ms, probed ? &probe : nullptr, &local);
+        const double tolerance = cfg.scene_default ? default_tolerance : cfg.error_tolerance;
+        for (const LocalError& e : local) {
+          local_csv << c.name << ',' << cfg.name() << ',' << tolerance << ',' << e.frame << ','
+                    << e.frame * frame << ',' << e.substeps << ',' << e.estimate << ','
+                    << e.truth << ',' << e.reference_error << '\n';
+        }
+        local_csv.flush();
         const std::string status = t.stopped ? "too_slow" : t.rollbacks > 0 ? "rolled_back" : "ok";
         for (std::size_t k = 0; k < t.samples.size(); ++k) {
           const Sample& s = t.samples[k];
@@ -364,7 +489,7 @@ void runAccuracy(const AccuracyOptions& o) {
               << ',' << quantile(t.frame_ms, 0.1) << ',' << quantile(t.frame_ms, 0.9) << ','
               << t.rollbacks << ',' << status << ',' << median(t.frame_cpu_ms) << ','
               << quantile(t.frame_cpu_ms, 0.1) << ',' << quantile(t.frame_cpu_ms, 0.9) << ','
-              << cfg.error_tolerance << ','
+              << tolerance << ','
               << t.substeps_sum / std::max<std::size_t>(1, t.frame_ms.size()) << ','
               << t.estimate_sum << '\n';
         }

@@ -40,6 +40,19 @@ struct AccuracyOptions {
   /// iterations), with BDF2 and with implicit Euler.
   std::vector<std::string> error_control_solvers = {"local_global"};
   std::vector<double> error_tolerances = {1e-4, 3e-5, 1e-5, 3e-6};
+  /// Run the scene format's default too (a scene with no solver block: error control with
+  /// BDF2 at kDefaultRelativeErrorTolerance x the cloth's size), labelled "default".
+  bool scene_default = true;
+  /// Only the default (no sweep, no Newton rows): the check of the scene format's default.
+  bool default_only = false;
+  /// Error-controlled configurations: the local error of this many frames, evenly spread up to
+  /// local_error_until (s), is measured against the true motion from the same state
+  /// (local_error.csv: the estimate against the truth). 0 = none.
+  int local_error_frames = 10;
+  double local_error_until = 1.0;
+  /// The true frame: implicit Euler converged at this many substeps and twice as many,
+  /// extrapolated (Richardson).
+  int local_error_substeps = 64;
   /// Newton at full convergence (the best a step of that size can do), only up to this grid.
   int newton_max_grid = 32;
   /// Simulated times (s) at which positions, energy, strain and the centre of mass are compared

@@ -11,10 +11,12 @@
 #include "cloth_sim/core/solvers/registry.h"
 #include "drift.h"
 #include "floor.h"
+#include "precision.h"
 #include "scaling.h"
 #include "self_collision_set.h"
 #include "speed.h"
 #include "stability.h"
+#include "threads.h"
 
 int main(int argc, char** argv) {
   using namespace cloth_sim::bench;
@@ -110,6 +112,40 @@ int main(int argc, char** argv) {
   scaling_cmd->add_option("--grids", scaling.obstacle_grids, "cloth sizes over the obstacles")
       ->delimiter(',')->capture_default_str()->check(CLI::Range(4, 400));
 
+  ThreadsOptions threads;
+  threads.out_dir = source_dir + "/bench/results";
+  CLI::App* threads_cmd =
+      app.add_subcommand("threads", "ms per kernel and per frame at each thread count and grid");
+  threads_cmd->add_option("--out", threads.out_dir, "output directory")->capture_default_str();
+  threads_cmd->add_option("--grids", threads.grids, "grid sizes (rows = cols)")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(4, 1000));
+  threads_cmd->add_option("--threads", threads.threads, "thread counts")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(1, 1024));
+  threads_cmd->add_option("--solver", threads.solver, "local/global family solver")
+      ->capture_default_str()->check(CLI::IsMember({"local_global", "chebyshev", "anderson"}));
+  threads_cmd->add_option("--iterations", threads.iterations, "iterations per step")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+  threads_cmd->add_option("--linear-solver", threads.linear_solver, "fused or fused_float")
+      ->capture_default_str()->check(CLI::IsMember({"fused", "fused_float"}));
+  threads_cmd->add_option("--repeats", threads.repeats, "timed calls per kernel")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+  threads_cmd->add_option("--frames", threads.frames, "timed frames per thread count")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+
+  PrecisionOptions precision;
+  precision.out_dir = source_dir + "/bench/results";
+  CLI::App* precision_cmd = app.add_subcommand(
+      "precision", "the float factor against the double one: speed and the fixed point reached");
+  precision_cmd->add_option("--out", precision.out_dir, "output directory")->capture_default_str();
+  precision_cmd->add_option("--grids", precision.grids, "grid sizes (rows = cols)")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(4, 1000));
+  precision_cmd->add_option("--threads", precision.threads, "thread counts")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(1, 1024));
+  precision_cmd->add_option("--repeats", precision.repeats, "timed calls per kernel")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+  precision_cmd->add_option("--frames", precision.frames, "frames of the compared trajectories")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+
   AccuracyOptions accuracy;
   accuracy.out_dir = source_dir + "/bench/results";
   accuracy.cache_dir = source_dir + "/bench/cache";
@@ -126,6 +162,13 @@ int main(int argc, char** argv) {
   accuracy_cmd->add_option("--error-tolerances", accuracy.error_tolerances,
                            "error-controlled configurations: tolerances, m per frame ('' = none)")
       ->delimiter(',')->capture_default_str()->check(CLI::Range(1e-9, 1.0));
+  accuracy_cmd->add_flag("!--no-default", accuracy.scene_default,
+                         "leave out the scene format's default (error control, BDF2)");
+  accuracy_cmd->add_flag("--default-only", accuracy.default_only,
+                         "run the scene format's default only (no sweep)");
+  accuracy_cmd->add_option("--local-error-frames", accuracy.local_error_frames,
+                           "error-controlled runs: frames whose local error is measured (0 = none)")
+      ->capture_default_str()->check(CLI::Range(0, 1000));
   accuracy_cmd->add_option("--error-control-solvers", accuracy.error_control_solvers,
                            "solvers run error-controlled")
       ->delimiter(',')->capture_default_str()->check(CLI::IsMember(cloth_sim::solverNames()));
@@ -211,6 +254,10 @@ int main(int argc, char** argv) {
     if (*drift_cmd) runDrift(drift);
     if (*scaling_cmd) runScaling(scaling);
     if (*self_set_cmd && runSelfCollisionSet(self_set) != 0) return 2;
+    threads.scenes_dir = speed.scenes_dir;
+    if (*threads_cmd) runThreads(threads);
+    precision.scenes_dir = speed.scenes_dir;
+    if (*precision_cmd) runPrecision(precision);
     if (*speed_cmd) {
       speed.paper = !no_paper;
       runSpeed(speed);

@@ -5,7 +5,12 @@
 #include <chrono>
 #include <ctime>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace cloth_sim::bench {
@@ -39,6 +44,25 @@ inline double threadCpuNow() {
 /// Wall-clock seconds since an arbitrary epoch.
 inline double now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+/// Wall-clock milliseconds of one call of @p f.
+inline double timeMs(const std::function<void()>& f) {
+  const double t0 = now();
+  f();
+  return 1e3 * (now() - t0);
+}
+
+/// @p dir/@p file opened for writing (the folder made if missing) with @p header as its first
+/// line; @p path gets the file's path. Throws std::runtime_error if it cannot be written.
+inline std::ofstream openCsv(const std::string& dir, const std::string& file,
+                             const std::string& header, std::string& path) {
+  std::filesystem::create_directories(dir);
+  path = dir + "/" + file;
+  std::ofstream csv(path);
+  if (!csv) throw std::runtime_error("cannot write " + path);
+  csv << header << '\n';
+  return csv;
 }
 
 }  // namespace cloth_sim::bench

@@ -19,6 +19,7 @@ from geometry_msgs.msg import TransformStamped
 from tf2_msgs.msg import TFMessage
 
 from cloth_sim.srv import AddGrasp, AddGraspRequest, ReleaseGrasp
+from std_srvs.srv import Trigger
 
 
 def load_waypoints(path):
@@ -57,12 +58,19 @@ def main():
     frame, child, points = load_waypoints(rospy.get_param("~waypoints"))
     period = float(rospy.get_param("~sample_period", 1.0 / 120.0))
     lookahead = float(rospy.get_param("~lookahead", 0.1))
+    # ~loop: s to wait after the last waypoint before cloth/reset and the script again (0: once).
+    # ~start_delay: s (simulated) before the first waypoint, so a viewer has time to come up.
+    loop = float(rospy.get_param("~loop", 0.0))
+    start_delay = float(rospy.get_param("~start_delay", 0.0))
     pub = rospy.Publisher("/tf", TFMessage, queue_size=100)
     rospy.wait_for_service("cloth/grasp")
     grasp = rospy.ServiceProxy("cloth/grasp", AddGrasp)
     release = rospy.ServiceProxy("cloth/release", ReleaseGrasp)
+    reset = rospy.ServiceProxy("cloth/reset", Trigger)
     while not rospy.is_shutdown() and rospy.Time.now().is_zero():
         rospy.sleep(0.01)  # with /use_sim_time: wait for the first /clock
+    if start_delay > 0.0:
+        rospy.sleep(start_delay)
     start = rospy.Time.now()
     next_sample = 0  # index of the next sample on the grid k * period
     actions = [w for w in points if w.get("action")]
@@ -94,10 +102,17 @@ def main():
                 res = release(grasp_id)
                 rospy.loginfo("scripted_gripper: t = %.2f s: release: %s", now, res.message)
                 grasp_id = None
-        if not actions and now > points[-1]["t"] + lookahead:
-            rospy.loginfo("scripted_gripper: done")
-            rospy.spin()  # keep the last transforms in the buffers of late listeners
-            return
+        if not actions and now > points[-1]["t"] + lookahead + loop:
+            if loop <= 0.0:
+                rospy.loginfo("scripted_gripper: done")
+                rospy.spin()  # keep the last transforms in the buffers of late listeners
+                return
+            # Again from the start: the cloth back to the scene's initial state, the same script.
+            rospy.loginfo("scripted_gripper: done; again: %s", reset().message)
+            start = rospy.Time.now()
+            next_sample = 0
+            actions = [w for w in points if w.get("action")]
+            grasp_id = None
         rate.sleep()
 
 

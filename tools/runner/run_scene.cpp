@@ -21,7 +21,7 @@ namespace {
 
 struct Options {
   std::string scene_path, solver, linear_solver, integrator, csv, json, positions;
-  std::optional<int> iterations, substeps;
+  std::optional<int> iterations, substeps, threads;
   std::optional<double> dt, tolerance, error_tolerance, fold;
   std::optional<int> resolution;
   std::string self_collision;
@@ -111,6 +111,10 @@ int main(int argc, char** argv) {
       ->check(allowedBy(settings::kRunDuration));
   app.add_option("--tolerance", o.tolerance, "stop iterating below this relative change (0 = never)")
       ->check(allowedBy(settings::kTolerance));
+  app.add_option("--threads", o.threads,
+                 "threads of the kernels, 0 = every core (default: the scene's solver.threads); "
+                 "the results are the same for any count")
+      ->check(allowedBy(settings::kThreads));
   app.add_option("--error-tolerance", o.error_tolerance,
                  "position error a frame may make, m (0 = fixed iterations; with --substeps 0 the "
                  "substeps follow it too)")
@@ -156,6 +160,7 @@ int main(int argc, char** argv) {
     if (!o.solver.empty()) overrides.solver = o.solver;
     overrides.iterations = o.iterations;
     overrides.substeps = o.substeps;
+    overrides.threads = o.threads;
     overrides.tolerance = o.tolerance;
     overrides.error_tolerance = o.error_tolerance;
     if (!o.linear_solver.empty()) overrides.linear_solver = linearSolverFromName(o.linear_solver);

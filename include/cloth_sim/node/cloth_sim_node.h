@@ -2,6 +2,7 @@
 /// cloth_sim_node: owns one core Simulation and schedules, converts and publishes. No physics.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -46,6 +47,7 @@
 #include "cloth_sim/node/grasp_frames.h"
 #include "cloth_sim/node/log_throttle.h"
 #include "cloth_sim/node/marker_builder.h"
+#include "cloth_sim/node/names.h"
 #include "cloth_sim/node/options.h"
 #include "cloth_sim/node/pin_handles.h"
 #include "cloth_sim/node/reconfigure_bridge.h"
@@ -91,6 +93,10 @@ class ClothSimNode {
   /// One frame: the core's step, the monitor, cloth/state, the wrenches, /clock, and the
   /// automatic reset when due.
   void stepFrame();
+  /// cloth/state (latched) of the last frame, stamped by @p header, with the node's notice.
+  void publishState(const std_msgs::Header& header);
+  /// publishState at the state's stamp now (after a pause, a reconfigure request).
+  void publishStateNow();
   /// With a frame budget: the next frame's substeps from this frame's wall time.
   void adaptSubsteps();
   void render(const ros::SteadyTimerEvent&);
@@ -103,6 +109,15 @@ class ClothSimNode {
   void resetSimulation(const std::string& why, bool automatic);
   /// The pins that get drag handles: all but the grasps' (their frame moves them).
   std::vector<Pin> handledPins() const;
+  /// A user's input changed something: a divergence after it is a new cause (its first
+  /// automatic reset is a reset, not a hold), and the notice of a hold is cleared.
+  void userInput();
+  /// The automatic reset that would repeat (no input since the last one): instead, the
+  /// reconfigured values go back to the last stable ones, the cloth to its initial shape, each
+  /// pin whose target is away from its particle's initial position is held there and each
+  /// moving kinematic sphere stopped. Returns what was held ("" = nothing: the cause is not an
+  /// input, and the caller resets).
+  std::string holdInputs();
   /// Removes the spheres that flew beyond ~sphere_cull_distance.
   void cullSpheres();
   /// Logs "<where>: <why>" as a warning, at most once per few seconds per distinct text.
@@ -192,6 +207,15 @@ class ClothSimNode {
   double ground_size_;  ///< m
   std::uint64_t steps_since_reset_ = 0;
   StepReport last_report_;
+  /// ClothState::notice: the refusals of the last reconfigure request ("" = all applied) and
+  /// the inputs held back to stop a reset loop.
+  std::string reconfigure_notice_, held_notice_;
+  /// An automatic reset happened and no input came since: the next one would repeat it.
+  bool reset_since_input_ = false;
+  /// Frames kept in a row since the last rollback or input, and the reconfigured values in use
+  /// once kStableFrames were (what a hold goes back to).
+  int kept_in_row_ = 0;
+  ClothSimConfig stable_config_;
   RealTimeWindow real_time_;  ///< simulated over wall time since the last diagnostics report
 
   tf2_ros::Buffer tf_buffer_;
@@ -236,6 +260,12 @@ bool ClothSimNode::answer(const std::string& name, Response& res,
   try {
     res.message = action();
     res.success = true;
+    // An edit is a new input (a divergence after it is a new cause); a query or pause is not.
+    const std::string edits[] = {names::kSpawnSphere, names::kRemoveSphere, names::kAddPin,
+                                 names::kRemovePin,   names::kReset,        names::kGrasp,
+                                 names::kRelease,     names::kAddCollider,  names::kRemoveCollider,
+                                 names::kMoveSphere,  names::kSetState};
+    if (std::find(std::begin(edits), std::end(edits), name) != std::end(edits)) userInput();
     ROS_INFO("%s: %s", name.c_str(), res.message.c_str());
   } catch (const std::exception& e) {
     res.success = false;

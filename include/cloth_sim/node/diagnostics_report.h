@@ -53,6 +53,9 @@ struct DiagnosticsInput {
   std::size_t grasps = 0;                       ///< grasps
   bool paused = false;                          ///< the step timer is paused (cloth/pause)
   std::vector<std::string> stale_grasp_frames;  ///< GraspFrames::staleFrames()
+  double frame_deadline = 0.0;                  ///< s, ~frame_deadline_ms (0 = none)
+  /// What the node holds back from the user's inputs and why (ClothState::notice; "" = none).
+  std::string notice;
 };
 
 /// One diagnostics status: level, message and key-values in display order.

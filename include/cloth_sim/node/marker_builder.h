@@ -79,9 +79,12 @@ struct MarkerBuild {
 /// collider, the ground, the mesh obstacles when given (flat shaded, one colour); every marker ADD
 /// (add or modify in place), plus a DELETE for each pin or sphere of @p before that no longer
 /// exists. Every coordinate is finite (see MarkerBuild::sanitized). Throws std::invalid_argument if
-/// the strain size differs from the particle count or a triangle index is out of range.
+/// the strain size differs from the particle count or a triangle index is out of range. The
+/// cloth's normals, colours and corners are built on up to @p threads threads (the same array
+/// for any count).
 MarkerBuild buildMarkers(const MarkerScene& scene, const MarkerStyle& style,
-                         const std_msgs::Header& header, const ShownMarkers& before);
+                         const std_msgs::Header& header, const ShownMarkers& before,
+                         int threads = 1);
 
 /// Colour legend of the cloth: blue (0.23, 0.30, 0.75) at strain <= -scale (compressed),
 /// light grey (0.87, 0.87, 0.87) at 0 (rest length), red (0.71, 0.02, 0.15) at >= +scale

@@ -36,6 +36,10 @@ struct NodeOptions {
   /// error a frame may make when given; 0: fixed substeps and iterations. With a scene that
   /// leaves its substeps to the simulator (or gives 0) the substeps follow it too.
   std::optional<double> error_tolerance;
+  /// ~threads (settings::kThreads): threads of the simulation's kernels and of the marker and
+  /// point-cloud building, 0 = every core; unset keeps the scene's solver.threads (default 0).
+  /// The results are the same for any count.
+  std::optional<int> threads;
   /// ~self_collision: turns the cloth's self-collision on or off whatever the scene says; unset
   /// keeps the scene's (its self_collision field; thickness and friction come from there, or
   /// their defaults). dynamic_reconfigure's self_collision switches it at run time.
@@ -72,6 +76,10 @@ struct NodeOptions {
   /// ~budget_ms, ms, [0, 1000] (settings::kFrameBudget): when > 0, the substeps per frame adapt
   /// to keep a frame's wall time within this (FrameBudget); 0 = the substeps stay as set.
   double budget_ms = 0.0;
+  /// ~frame_deadline_ms, ms, [0, 60000] (settings::kFrameDeadline; 0 = none): the wall time a
+  /// frame may take before its work is cut (Simulation::setFrameDeadline), so that no setting
+  /// (100,000 iterations, 1,000 substeps) keeps services and Ctrl-C waiting.
+  double frame_deadline_ms = 200.0;
   /// ~start_paused: wait for cloth/unpause or cloth/step before the first frame.
   bool start_paused = false;
   /// ~grasp_frame_timeout, s, > 0 (settings::kGraspFrameTimeout): a grasp frame whose latest
@@ -120,7 +128,7 @@ std::string resolveScenePath(const std::string& scene, const std::string& scene_
 std::vector<std::string> shippedScenes(const std::string& scene_dir);
 
 /// Loads the scene file of @p options (resolved against @p scene_dir) and applies ~solver,
-/// ~iterations, ~substeps and ~self_collision to it (checked by validateNodeOptions). Throws
+/// ~iterations, ~substeps, ~threads and ~self_collision to it (checked by validateNodeOptions). Throws
 /// std::invalid_argument "parameter '~scene': <what is wrong>" for a missing or invalid file; a
 /// bare name that is no shipped scene gets the list of shipped scenes (shippedScenes).
 SceneConfig loadScene(const NodeOptions& options, const std::string& scene_dir);

@@ -24,16 +24,20 @@ struct FieldOutcome {
 };
 
 /// The frame budget for @p budget_ms (ms, > 0 on; 0 off: std::nullopt), picking each frame's
-/// substeps within settings::kSubsteps' range. Throws std::invalid_argument when @p budget_ms
-/// is outside settings::kFrameBudget's range.
-std::optional<FrameBudget> frameBudgetFor(double budget_ms);
+/// substeps within settings::kSubsteps' range. Throws std::invalid_argument, naming the value
+/// @p what, when @p budget_ms is outside settings::kFrameBudget's range or longer than the
+/// frame @p frame_s (s, the scene's time_step): a frame given more than its period runs slower
+/// than real time.
+std::optional<FrameBudget> frameBudgetFor(double budget_ms, double frame_s,
+                                          const std::string& what = "budget_ms");
 
 /// Maps ClothSimConfig onto a Simulation, the node's frame budget and the cloth's colour mode,
 /// which it changes in place (all three must outlive it).
 ///
 /// A request changes each field that differs from current(), one at a time in the cfg's order:
 /// the stiffness of each spring family (Simulation::setFamilyStiffness), damping, solver,
-/// color_mode, iterations and substeps (Simulation::setSolverSettings), budget_ms and
+/// color_mode, iterations and substeps (Simulation::setSolverSettings), budget_ms (within the
+/// frame; off restores the configured substeps) and
 /// self_collision (Simulation::setSelfContact, keeping the thickness and friction). A field the
 /// core refuses (a negative stiffness, a family the object lacks, an unknown solver, 0
 /// iterations, ...) is left as it was and put back in the request, which the server then
@@ -52,10 +56,19 @@ class ReconfigureBridge {
   /// Returns one outcome per changed field, in the order applied.
   std::vector<FieldOutcome> apply(ClothSimConfig& config);
 
+  /// The substeps the user set (the scene's, ~substeps or the last reconfigured value; 0 =
+  /// chosen by the error estimate), which a frame budget may change frame by frame.
+  int configuredSubsteps() const { return configured_substeps_; }
+
  private:
+  /// budget_ms turned off: the configured substeps come back (or, with automatic substeps, the
+  /// error controller's own cap), not the budget's last choice.
+  void restoreConfiguredSubsteps();
+
   Simulation& sim_;
   std::optional<FrameBudget>& budget_;
   ColorMode& color_mode_;
+  int configured_substeps_;
 };
 
 }  // namespace cloth_sim::node

@@ -15,6 +15,7 @@ struct StepWindow {
   int overruns = 0;        ///< steps that took longer than the budget
   int rollbacks = 0;       ///< steps the core rolled back (non-finite or diverged)
   int resets = 0;          ///< automatic resets after too many rollbacks in a row
+  int cut = 0;             ///< frames whose work the frame deadline cut (StepReport::shortfall)
   double mean_time = 0.0;  ///< s, mean wall time per step
   double max_time = 0.0;   ///< s, longest step
   double budget = 0.0;     ///< s, the budget the steps were held against
@@ -36,7 +37,10 @@ class StepMonitor {
 
   /// Records one step that took @p seconds of wall time. Returns true when it was the
   /// max_rollbacks-th rolled-back step in a row: the caller must reset the simulation now.
-  bool record(bool rolled_back, double seconds);
+  bool record(bool rolled_back, double seconds, bool cut = false);
+  /// The reset record() just asked for was replaced by holding the input that caused it (the
+  /// node's reset-loop guard): it is not counted as a reset.
+  void holdInsteadOfReset();
   /// Forgets the rollbacks in a row (after a reset requested by the user).
   void clearFailures() { consecutive_failures_ = 0; }
   /// The statistics since the previous call; starts a new window.

@@ -2,155 +2,27 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 
 #include "cloth_sim/core/collision/contact_projection.h"
 
 namespace cloth_sim {
 namespace {
 
-/// A point within this many radii of a sphere (along its relative path) becomes a candidate.
-constexpr double kMarginRadii = 0.5;
 /// Jacobi relaxation on top of mass splitting (contacts also share cloth around them).
 constexpr double kRelaxation = 0.5;
-
-/// Contact normal for a point whose path relative to a sphere of radius @p r goes from @p a to
-/// @p b; false if the path stays farther than @p reach from the centre.
-bool sweptNormal(const Vec3& a, const Vec3& b, double r, double reach, Vec3& normal, bool& swept) {
-  swept = false;
-  const Vec3 path = b - a;
-  const double len2 = path.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp(-a.dot(path) / len2, 0.0, 1.0) : 0.0;
-  if ((a + t * path).norm() > reach) return false;
-  // A sweep (the point moves by more than half a radius relative to the sphere, or would pass
-  // its centre): push it back out where it entered. A resting or rolling contact uses the
-  // radial direction: the entry point of a slow slide lies ahead of the contact and would tilt
-  // the force into a drag.
-  const bool sweep = std::sqrt(len2) > 0.5 * r || b.dot(a) <= 0.0;
-  if (sweep && a.squaredNorm() > r * r && len2 > 0.0) {
-    const double enter = sphereEntry(a, path, r);
-    if (enter >= 0.0) {
-      normal = (a + enter * path).normalized();
-      swept = true;
-      return true;
-    }
-  }
-  if (b.norm() > 1e-12) normal = b.normalized();
-  else normal = a.norm() > 1e-12 ? Vec3(a.normalized()) : Vec3::UnitZ();
-  return true;
-}
-
-/// Barycentric weights of @p q, a point of triangle (a, b, c).
-std::array<double, 3> barycentric(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 v0 = b - a, v1 = c - a, v2 = q - a;
-  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1);
-  const double d20 = v2.dot(v0), d21 = v2.dot(v1), den = d00 * d11 - d01 * d01;
-  if (!(std::abs(den) > 0.0)) return {1.0, 0.0, 0.0};
-  const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
-  return {std::max(0.0, 1.0 - v - w), std::max(0.0, v), std::max(0.0, w)};
-}
 
 /// The position (m) stored at @p offset of a node buffer.
 Vec3 nodeAt(const NodeBuffer& x, int offset) { return Vec3(x[offset], x[offset + 1], x[offset + 2]); }
 
 }  // namespace
 
-void ContactForces::boxFeatures(const Model& model, const Points& y) {
-  // Shared by every dynamic sphere of the step: one box per movable feature, built once.
-  features_.clear();
-  feature_boxes_.clear();
-  std::vector<Eigen::AlignedBox3d> vertex_box(y.cols());
-  for (Eigen::Index i = 0; i < y.cols(); ++i) {
-    vertex_box[i].extend(Vec3(start_.col(i))).extend(Vec3(y.col(i)));
-  }
-  auto add = [&](const std::array<int, 3>& v, int count) {
-    Eigen::AlignedBox3d box;
-    for (int j = 0; j < count; ++j) {
-      if (!movable_[v[j]]) return;  // a pinned vertex cannot be pushed
-      box.extend(vertex_box[v[j]]);
-    }
-    features_.push_back({v, count});
-    feature_boxes_.push_back(box);
-  };
-  if (model.triangles.cols() > 0) {
-    for (Eigen::Index t = 0; t < model.triangles.cols(); ++t) {
-      add({model.triangles(0, t), model.triangles(1, t), model.triangles(2, t)}, 3);
-    }
-  } else {
-    for (Eigen::Index i = 0; i < y.cols(); ++i) add({static_cast<int>(i), 0, 0}, 1);
-  }
-}
-
-void ContactForces::addCandidates(std::size_t k, const Points& y) {
-  const Points& start = start_;
-  const Body& body = bodies_[k];
-  const double reach = body.radius * (1.0 + kMarginRadii);
-  Eigen::AlignedBox3d swept;
-  swept.extend(body.old).extend(body.predicted);
-  swept.min().array() -= reach;
-  swept.max().array() += reach;
-  std::set<std::array<int, 3>> seen;  // a feature (vertex, edge, face) shared by triangles
-  auto consider = [&](const std::array<int, 3>& v, int count) {
-    Contact c{v, {1.0, 0.0, 0.0}, static_cast<int>(k), Vec3::UnitZ(), 0.0, 0.0};
-    if (count == 3) {
-      // The triangle's point closest to the sphere, as barycentric weights for the step.
-      const Vec3 q = closestPointOnTriangle(body.predicted, y.col(v[0]), y.col(v[1]), y.col(v[2]));
-      c.weight = barycentric(q, y.col(v[0]), y.col(v[1]), y.col(v[2]));
-    }
-    std::array<int, 3> feature{-1, -1, -1};
-    for (int j = 0, n = 0; j < 3; ++j) {
-      if (c.weight[j] > 1e-9) feature[n++] = c.vertex[j];
-      else c.weight[j] = 0.0;
-    }
-    std::sort(feature.begin(), feature.end());
-    if (!seen.insert(feature).second) return;
-    Vec3 at_start = Vec3::Zero(), at_end = Vec3::Zero();
-    for (int j = 0; j < 3; ++j) {
-      at_start += c.weight[j] * start.col(c.vertex[j]);
-      at_end += c.weight[j] * y.col(c.vertex[j]);
-    }
-    if (!sweptNormal(at_start - body.old, at_end - body.predicted, body.radius, reach, c.normal,
-                     c.sweep)) {
-      return;
-    }
-    c.triangle = count == 3;
-    c.source = body.id;
-    contacts_.push_back(c);
-  };
-  for (std::size_t f = 0; f < features_.size(); ++f) {
-    if (feature_boxes_[f].intersects(swept)) consider(features_[f].vertex, features_[f].count);
-  }
-}
-
-void ContactForces::addStillCandidates(const Model& model, const Points& y) {
-  // Reach beyond the step's free motion: about a quarter spacing, what the springs move a
-  // particle within one step at most in a resting drape.
-  double spacing = 0.0;
-  for (std::size_t k = 0; k < model.springs.size(); ++k) spacing += model.springs.rest_length[k];
-  const double margin = model.springs.size() > 0 ? 0.25 * spacing / model.springs.size() : 0.0;
-  for (Eigen::Index p = 0; p < y.cols(); ++p) {
-    if (!movable_[p]) continue;
-    const Vec3 start = start_.col(p);
-    const double reach = (Vec3(y.col(p)) - start).norm() + margin;
-    auto add = [&](const Vec3& normal, const Vec3& anchor, int source, double mu) {
-      Contact c{{static_cast<int>(p), static_cast<int>(p), static_cast<int>(p)}, {1.0, 0.0, 0.0}, -1,
-                normal, 0.0, 0.0};
-      c.anchor = anchor;
-      c.source = source;
-      c.mu = mu;
-      contacts_.push_back(c);
-    };
-    if (ground_.enabled && start.z() < ground_.height + reach) {
-      add(Vec3::UnitZ(), Vec3(start.x(), start.y(), ground_.height), stillSource(-1), ground_.friction);
-    }
-    for (std::size_t m = 0; m < meshes_.size(); ++m) {
-      Vec3 point, normal;
-      if (meshes_[m]->nearest(start, reach + meshes_[m]->thickness(), point, normal)) {
-        add(normal, point + meshes_[m]->thickness() * normal, stillSource(static_cast<int>(m)),
-            meshes_[m]->friction());
-      }
-    }
-  }
+std::array<double, 3> ContactForces::barycentric(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 v0 = b - a, v1 = c - a, v2 = q - a;
+  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1);
+  const double d20 = v2.dot(v0), d21 = v2.dot(v1), den = d00 * d11 - d01 * d01;
+  if (!(std::abs(den) > 0.0)) return {1.0, 0.0, 0.0};
+  const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
+  return {std::max(0.0, 1.0 - v - w), std::max(0.0, v), std::max(0.0, w)};
 }
 
 void ContactForces::beginStep(const CollisionStep& step, const Colliders& colliders) {
@@ -191,7 +63,7 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
       if (c.weight[j] > 0.0) ++per_vertex[c.vertex[j]];
     }
   }
-  for (Contact& c : contacts_) {
+  forEachContact([&](Contact& c) {
     c.start = Vec3::Zero();
     for (int j = 0; j < 3; ++j) c.start += c.weight[j] * start.col(c.vertex[j]);
     // The gap's response to a unit force: the cloth's part moves by h_i^2 (its right-hand side
@@ -239,7 +111,7 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
     c.friction -= c.friction.dot(c.normal) * c.normal;
     const double cap = c.mu * c.lambda;
     if (c.friction.norm() > cap) c.friction *= cap / c.friction.norm();
-  }
+  });
   indexVertices(particle_node);
   placeBodies();
 }
@@ -258,7 +130,15 @@ void ContactForces::indexVertices(const std::vector<int>& particle_node) {
       c.slot[j] = slot;
     }
   }
-  touched_force_.assign(touched_.size(), Vec3::Zero());
+  // Each slot's contact vertices, in contact order (a counting sort).
+  slot_begin_.assign(touched_.size() + 1, 0);
+  for (const Contact& c : contacts_)
+    for (int j = 0; j < 3; ++j) ++slot_begin_[c.slot[j] + 1];
+  for (std::size_t t = 0; t < touched_.size(); ++t) slot_begin_[t + 1] += slot_begin_[t];
+  slot_entry_.resize(3 * contacts_.size());
+  std::vector<int> next(slot_begin_.begin(), slot_begin_.end() - 1);
+  for (std::size_t k = 0; k < contacts_.size(); ++k)
+    for (int j = 0; j < 3; ++j) slot_entry_[next[contacts_[k].slot[j]]++] = static_cast<int>(3 * k + j);
 }
 
 void ContactForces::placeBodies() {
@@ -298,11 +178,11 @@ void ContactForces::relinearize(Contact& c, const NodeBuffer& x) const {
 
 void ContactForces::update(const NodeBuffer& x) {
   const double h2 = h_ * h_;
-  for (Contact& c : contacts_) relinearize(c, x);
-  for (Contact& c : contacts_) {
+  forEachContact([&](Contact& c) { relinearize(c, x); });
+  forEachContact([&](Contact& c) {  // each contact on its own: any blocks, any threads
     c.lambda = std::max(0.0, c.lambda - kRelaxation * gap(c, x) / c.response);
     const double mu = c.body < 0 ? c.mu : bodies_[c.body].friction;
-    if (mu <= 0.0) continue;
+    if (mu <= 0.0) return;
     // Slip of the contact point over the step, relative to the collider's surface point.
     Vec3 point = Vec3::Zero();
     for (int j = 0; j < 3; ++j) point += c.weight[j] * nodeAt(x, c.offset[j]);
@@ -319,24 +199,28 @@ void ContactForces::update(const NodeBuffer& x) {
     c.friction -= c.friction.dot(c.normal) * c.normal;
     const double cap = mu * c.lambda, size = c.friction.norm();
     if (size > cap) c.friction *= cap / size;
-  }
+  });
   placeBodies();
 }
 
 void ContactForces::addForces(NodeBuffer& rhs) const {
   // The cloth's step M (x - y) + h_i^2 grad E(x) = h_i^2 f: the forces enter with h_i^2.
   const double h2 = implicit_h_ * implicit_h_;
-  // Summed per vertex first, then added: the same sums (to the bit) as a separate force field.
-  std::fill(touched_force_.begin(), touched_force_.end(), Vec3::Zero());
-  for (const Contact& c : contacts_) {
-    if (c.lambda <= 0.0) continue;
-    const Vec3 force = c.lambda * c.normal + c.friction;
-    for (int j = 0; j < 3; ++j) {
-      if (c.weight[j] > 0.0) touched_force_[c.slot[j]] += (h2 * c.weight[j]) * force;
+  // Summed per vertex first, in contact order, then added: the same sums (to the bit) as a
+  // separate force field; each vertex (slot) on its own, so any blocks, any threads.
+  const BlockSplit split(touched_.size(), 256);
+  parallelFor(threads_, split.blocks(), [&](int b) {
+    for (std::size_t t = split.begin(b); t < split.end(b); ++t) {
+      Vec3 sum = Vec3::Zero();
+      for (int e = slot_begin_[t]; e < slot_begin_[t + 1]; ++e) {
+        const Contact& c = contacts_[slot_entry_[e] / 3];
+        const int j = slot_entry_[e] % 3;
+        if (c.lambda <= 0.0 || !(c.weight[j] > 0.0)) continue;
+        sum += (h2 * c.weight[j]) * (c.lambda * c.normal + c.friction);
+      }
+      for (int d = 0; d < 3; ++d) rhs[touched_[t] + d] += sum[d];
     }
-  }
-  for (std::size_t t = 0; t < touched_.size(); ++t)
-    for (int d = 0; d < 3; ++d) rhs[touched_[t] + d] += touched_force_[t][d];
+  });
 }
 
 void ContactForces::finish(Colliders& colliders) {

@@ -64,22 +64,28 @@ void ParticleSelfContact::findPairs(const Points& x, double margin) {
   // Cells of twice the reach: a query box spans at most 2 cells a side (8 cells, not 27).
   hash_.build(x, 2.0 * reach);
   const Vec3 half = Vec3::Constant(reach);
-  for (Eigen::Index i = 0; i < x.cols(); ++i) {
-    const Vec3 xi = x.col(i);
-    hash_.query(Eigen::AlignedBox3d(xi - half, xi + half), [&](int j) {
-      if (j <= i) return;
-      const double dist2 = (x.col(j) - xi).squaredNorm();
-      if (dist2 >= reach2 || neighbours(static_cast<int>(i), j)) return;
-      // Pairs closer than t on the cloth at rest are the springs' business: as contacts they
-      // fought the springs wherever the cloth compressed (a 2-ring pair at its rest distance,
-      // t = its rest length, pushed at every substep, and the cloth blew up). Others get 20 %
-      // compression before they touch.
-      const double rest = (rest_.col(i) - rest_.col(j)).norm();
-      if (rest < thickness_) return;
-      const double d = std::min(thickness_, 0.8 * rest);
-      if (dist2 < (d + margin) * (d + margin)) pairs_.push_back({static_cast<int>(i), j, d});
-    });
-  }
+  // Particles in fixed blocks on the threads; the pairs appended in block order (the serial one).
+  const BlockSplit split(static_cast<std::size_t>(x.cols()), 256);
+  std::vector<std::vector<Pair>> found(split.blocks());
+  parallelFor(threads_, split.blocks(), [&](int b) {
+    for (Eigen::Index i = split.begin(b); i < static_cast<Eigen::Index>(split.end(b)); ++i) {
+      const Vec3 xi = x.col(i);
+      hash_.query(Eigen::AlignedBox3d(xi - half, xi + half), [&](int j) {
+        if (j <= i) return;
+        const double dist2 = (x.col(j) - xi).squaredNorm();
+        if (dist2 >= reach2 || neighbours(static_cast<int>(i), j)) return;
+        // Pairs closer than t on the cloth at rest are the springs' business: as contacts they
+        // fought the springs wherever the cloth compressed (a 2-ring pair at its rest distance,
+        // t = its rest length, pushed at every substep, and the cloth blew up). Others get 20 %
+        // compression before they touch.
+        const double rest = (rest_.col(i) - rest_.col(j)).norm();
+        if (rest < thickness_) return;
+        const double d = std::min(thickness_, 0.8 * rest);
+        if (dist2 < (d + margin) * (d + margin)) found[b].push_back({static_cast<int>(i), j, d});
+      });
+    }
+  });
+  for (const auto& block : found) pairs_.insert(pairs_.end(), block.begin(), block.end());
 }
 
 std::vector<std::pair<int, int>> ParticleSelfContact::contacts(const Points& positions) {

@@ -71,6 +71,11 @@ SelfContact::~SelfContact() = default;
 SelfContact::SelfContact(SelfContact&&) noexcept = default;
 SelfContact& SelfContact::operator=(SelfContact&&) noexcept = default;
 
+void SelfContact::setThreads(int threads) {
+  if (particles_) particles_->setThreads(threads);
+  if (triangles_) triangles_->setThreads(threads);
+}
+
 double SelfContact::maxDisplacement() const {
   return particles_ ? particles_->maxDisplacement() : std::numeric_limits<double>::infinity();
 }

@@ -18,8 +18,9 @@ SpatialHash::Key SpatialHash::key(int x, int y, int z) {
 }
 
 void SpatialHash::insert(int id, const Eigen::AlignedBox3d& box) {
-  if (id >= static_cast<int>(stamp_.size())) stamp_.resize(id + 1, 0u);
   const Eigen::Vector3i lo = cellOf(box.min()), hi = cellOf(box.max());
+  if (id >= static_cast<int>(low_.size())) low_.resize(id + 1, Eigen::Vector3i::Zero());
+  low_[id] = lo;
   for (int x = lo.x(); x <= hi.x(); ++x)
     for (int y = lo.y(); y <= hi.y(); ++y)
       for (int z = lo.z(); z <= hi.z(); ++z) cells_[key(x, y, z)].push_back(id);

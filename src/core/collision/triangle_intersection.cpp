@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "cloth_sim/core/linalg/parallel.h"
+
 namespace cloth_sim {
 namespace {
 
@@ -62,15 +64,21 @@ std::size_t IntersectionCounter::find(const Points& x, std::vector<std::pair<int
   if (n == 0 || !x.allFinite()) return 0;
   boxes_.resize(n);
   keys_.resize(3, n);
-  double mean_size = 0.0;
-  for (int t = 0; t < n; ++t) {
-    Eigen::AlignedBox3d box(Vec3(x.col(triangles_(0, t))));
-    box.extend(Vec3(x.col(triangles_(1, t))));
-    box.extend(Vec3(x.col(triangles_(2, t))));
-    boxes_[t] = box;
-    keys_.col(t) = box.min();
-    mean_size += box.sizes().maxCoeff();
-  }
+  // Triangles in fixed blocks on the threads; sums and pairs gathered in block order, so the
+  // count and the pairs (and their order) are the serial ones on any number of threads.
+  const BlockSplit split(static_cast<std::size_t>(n), 512);
+  const double mean_size = orderedSum(threads_, split.blocks(), [&](int b) {
+    double sum = 0.0;
+    for (std::size_t t = split.begin(b); t < split.end(b); ++t) {
+      Eigen::AlignedBox3d box(Vec3(x.col(triangles_(0, t))));
+      box.extend(Vec3(x.col(triangles_(1, t))));
+      box.extend(Vec3(x.col(triangles_(2, t))));
+      boxes_[t] = box;
+      keys_.col(t) = box.min();
+      sum += box.sizes().maxCoeff();
+    }
+    return sum;
+  });
   const double cell = std::max(2.0 * mean_size / n, 1e-9);
   oversize_.clear();
   is_oversize_.assign(n, 0);
@@ -81,26 +89,35 @@ std::size_t IntersectionCounter::find(const Points& x, std::vector<std::pair<int
     }
   }
   hash_.build(keys_, cell);
-  std::size_t found = 0;
-  const auto record = [&](int s, int t) {
-    ++found;
-    if (out != nullptr) out->emplace_back(std::min(s, t), std::max(s, t));
-  };
+  std::vector<std::vector<std::pair<int, int>>> found(split.blocks());
   const Vec3 reach = Vec3::Constant(cell);
-  for (int s = 0; s < n; ++s) {
-    if (is_oversize_[s]) continue;
-    const Eigen::AlignedBox3d query(boxes_[s].min() - reach, boxes_[s].max());
-    hash_.query(query, [&](int t) {
-      if (t > s && !is_oversize_[t] && intersect(x, s, t)) record(s, t);
-    });
-  }
-  for (int s : oversize_) {  // a pair with an oversize triangle: from its smaller oversize end
+  parallelFor(threads_, split.blocks(), [&](int b) {
+    for (int s = static_cast<int>(split.begin(b)); s < static_cast<int>(split.end(b)); ++s) {
+      if (is_oversize_[s]) continue;
+      const Eigen::AlignedBox3d query(boxes_[s].min() - reach, boxes_[s].max());
+      hash_.query(query, [&](int t) {
+        if (t > s && !is_oversize_[t] && intersect(x, s, t)) found[b].emplace_back(s, t);
+      });
+    }
+  });
+  // A pair with an oversize triangle: from its smaller oversize end.
+  std::vector<std::vector<std::pair<int, int>>> large(oversize_.size());
+  parallelFor(threads_, static_cast<int>(oversize_.size()), [&](int k) {
+    const int s = oversize_[k];
     for (int t = 0; t < n; ++t) {
       if (t == s || (is_oversize_[t] && t < s)) continue;
-      if (intersect(x, s, t)) record(s, t);
+      if (intersect(x, s, t)) large[k].emplace_back(s, t);
+    }
+  });
+  std::size_t count = 0;
+  for (const auto* lists : {&found, &large}) {
+    for (const auto& list : *lists) {
+      count += list.size();
+      if (out == nullptr) continue;
+      for (const auto& [s, t] : list) out->emplace_back(std::min(s, t), std::max(s, t));
     }
   }
-  return found;
+  return count;
 }
 
 }  // namespace cloth_sim

@@ -46,6 +46,38 @@ void SceneLimits::checkPoint(const std::string& what, const Vec3& point) const {
   }
 }
 
+void SceneLimits::checkPinTarget(const std::string& what, const Vec3& point) const {
+  checkPoint(what, point);
+  const double distance = (point - center).norm(), pin_reach = kPinReachSizes * size;
+  if (!(distance <= pin_reach)) {
+    throw std::invalid_argument(what + " " + str(point) + " m is " + formatNumber(distance) +
+                                " m from the cloth's centre " + str(center) + " m, beyond " +
+                                formatNumber(kPinReachSizes) + " x the cloth's size = " +
+                                formatNumber(pin_reach) +
+                                " m (a pin farther away stretches the cloth past what it can "
+                                "follow)");
+  }
+}
+
+void SceneLimits::checkSphereAroundPins(const std::string& what, const SphereCollider& sphere,
+                                        const std::vector<Pin>& pins, const Points& positions) {
+  const std::string name = what.empty() ? "" : what + ": ";
+  for (const Pin& pin : pins) {
+    if (!pin.isHard() || pin.vertex < 0 || pin.vertex >= positions.cols()) continue;
+    for (const Vec3& p : {Vec3(positions.col(pin.vertex)), pin.target}) {
+      const double distance = (p - sphere.center).norm();
+      if (distance < sphere.radius) {
+        throw std::invalid_argument(
+            name + "center " + str(sphere.center) + " m and radius " +
+            formatNumber(sphere.radius) + " m: the sphere holds pin " + std::to_string(pin.id) +
+            " (vertex " + std::to_string(pin.vertex) + ", " + formatNumber(distance) +
+            " m from its centre) inside it: a pinned particle does not collide, so the cloth "
+            "around it would stay stretched across the sphere's surface");
+      }
+    }
+  }
+}
+
 void SceneLimits::checkSphere(const std::string& what, const SphereCollider& sphere,
                               double substep) const {
   const std::string name = what.empty() ? "" : what + ": ";

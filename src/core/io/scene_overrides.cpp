@@ -61,6 +61,7 @@ SceneConfig applyOverrides(SceneConfig scene, const SceneOverrides& overrides) {
     settings.integrator = *overrides.integrator;
     scene.given.integrator = true;
   }
+  if (overrides.threads) settings.threads = *overrides.threads;
   for (const auto& [param, value] : overrides.params) settings.params.set(*param, value);
   if (overrides.time_step) scene.time_step = *overrides.time_step;
   if (overrides.self_collision) scene.options.self_contact.enabled = *overrides.self_collision;

@@ -18,13 +18,14 @@ PinSelector PinSelector::atVertex(int vertex) {
 
 namespace {
 
-/// solver: {name, iterations, substeps, tolerance, integrator, error_tolerance} and, for every solver of the
-/// registry that has settings of its own, its block solver.<name>: {<field>: value, ...}.
+/// solver: {name, iterations, substeps, tolerance, integrator, error_tolerance, threads} and, for
+/// every solver of the registry that has settings of its own, its block solver.<name>:
+/// {<field>: value, ...}.
 void readSolver(const SceneFields& r, const YAML::Node& node, SimulationOptions& options,
                 SolverFieldsGiven& given) {
   const std::string path = "solver";
   std::set<std::string> keys = {"name",      "iterations", "substeps",
-                                 "tolerance", "integrator", "error_tolerance"};
+                                 "tolerance", "integrator", "error_tolerance", "threads"};
   for (const SolverEntry& entry : solverRegistry()) {
     if (!entry.params.empty()) keys.insert(entry.name);
   }
@@ -63,6 +64,9 @@ void readSolver(const SceneFields& r, const YAML::Node& node, SimulationOptions&
   }
   if (node["tolerance"]) {
     s.tolerance = r.number(node["tolerance"], settings::kTolerance.name, settings::kTolerance);
+  }
+  if (node["threads"]) {
+    s.threads = r.integer(node["threads"], settings::kThreads.name, settings::kThreads);
   }
   for (const SolverEntry& entry : solverRegistry()) {
     const YAML::Node block = node[entry.name];

@@ -109,18 +109,33 @@ StepReport Simulation::step() {
   const int n = substeps_;
   const double h = substepTime();
   inputs_.beginFrame(pins_, maxPinMove(), options_.frame_time, colliders_);
-  const SubstepWorld world = substepWorld();
+  SubstepWorld world = substepWorld();
+  if (frame_deadline_ > 0.0) {
+    world.deadline = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                              std::chrono::duration<double>(frame_deadline_));
+  }
   StepReport report;
   const double tolerance = options_.settings.error_tolerance;
   report.error_tolerance = tolerance;
   // Each substep's iterations stop at a share of its part of the frame's error tolerance.
   const double iteration_tolerance = kIterationShare * tolerance / n;
+  const double frame_end = state_.time + options_.frame_time;
   for (int k = 1; k <= n; ++k) {
+    double hk = h;
+    int last = k;
+    if (k > 1 && k < n && std::chrono::steady_clock::now() >= world.deadline) {
+      // Past the deadline: the rest of the frame as one implicit step (stable, less accurate),
+      // so that no setting holds the caller much longer than the deadline.
+      hk = frame_end - state_.time;
+      last = n;
+      report.merged_substeps = n - k + 1;
+    }
     // A grasp's frame is asked where it is at the end of each substep, so a moving gripper
     // carries the cloth continuously, not in one jump a frame.
-    const PinSet& pins = inputs_.pinsAt(k, n, state_.time + h, grasps_, pins_);
-    colliders_.mutableBodies().place(state_.time + h, body_pose_source_);  // bodies likewise
-    substep_.run(world, pins, h, revision_, iteration_tolerance, tolerance > 0.0, report);
+    const PinSet& pins = inputs_.pinsAt(last, n, state_.time + hk, grasps_, pins_);
+    colliders_.mutableBodies().place(state_.time + hk, body_pose_source_);  // bodies likewise
+    substep_.run(world, pins, hk, revision_, iteration_tolerance, tolerance > 0.0, report);
+    if (last == n) break;
   }
   report.max_strain = maxStrain(model_.springs, state_.positions);
   report.status = frameStatus(state_, colliders_, report.max_strain, options_.divergence_strain);
@@ -150,11 +165,29 @@ StepReport Simulation::step() {
   return report;
 }
 
+void Simulation::setFrameDeadline(double seconds) {
+  if (!(std::isfinite(seconds) && seconds >= 0.0)) {
+    throw std::invalid_argument("frame deadline " + std::to_string(seconds) +
+                                " s must be finite and >= 0 (0 = none)");
+  }
+  frame_deadline_ = seconds;
+}
+
 double Simulation::maxPinMove() const {
   // A target jumping d in one implicit step stretches the springs of its particle by at most
   // d / r before the cloth follows: keeping that a tenth of divergence_strain keeps a drag,
   // however fast, far from a rolled-back frame.
-  return substeps_ * shortest_rest_length_ * options_.divergence_strain / 10.0;
+  const double strain_bound = substeps_ * shortest_rest_length_ * options_.divergence_strain / 10.0;
+  return pin_speed_limit_ > 0.0 ? std::min(strain_bound, pin_speed_limit_ * options_.frame_time)
+                                : strain_bound;
+}
+
+void Simulation::setPinSpeedLimit(double metres_per_second) {
+  if (!(std::isfinite(metres_per_second) && metres_per_second >= 0.0)) {
+    throw std::invalid_argument("pin speed limit " + std::to_string(metres_per_second) +
+                                " m/s must be finite and >= 0 (0 = none)");
+  }
+  pin_speed_limit_ = metres_per_second;
 }
 
 void Simulation::rollBack(const State& state, const Colliders& colliders) {
@@ -282,6 +315,7 @@ void Simulation::setSelfContact(const SelfContactSettings& settings) {
 
 int Simulation::countIntersections() {
   if (!intersections_) intersections_ = std::make_unique<IntersectionCounter>(model_.triangles);
+  intersections_->setThreads(resolveThreads(options_.settings.threads));
   return intersections_->count(state_.positions);
 }
 

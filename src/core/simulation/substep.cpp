@@ -40,6 +40,7 @@ void SubstepPipeline::collide(const SubstepWorld& world, const PinSet& pins, dou
   const bool collide = !colliders.empty() || world.self_contact != nullptr;
   SolverInput input{model, pins, h, revision, collide ? &contacts_ : nullptr};
   input.iteration_tolerance = iteration_tolerance;
+  input.deadline = world.deadline;
   if (loads) reactions_.begin(input, state, world.settings.integrator);
   if (!collide) {
     solve(world, input, report);
@@ -53,6 +54,9 @@ void SubstepPipeline::collide(const SubstepWorld& world, const PinSet& pins, dou
       StepRecurrence::of(state, h, world.settings.integrator, model.damping).implicit_h;
   CollisionStep collision{h,     model.mass,        world.movable,
                           start, &start_velocities, model.gravity, implicit_h};
+  const int threads = resolveThreads(world.settings.threads);
+  contacts_.setThreads(threads);
+  if (world.self_contact != nullptr) world.self_contact->setThreads(threads);
   contacts_.beginStep(collision, colliders);
   const SolveResult solved = solve(world, input, report);
   // The loads of the solve itself, before the collision response moves soft-pinned particles.
@@ -104,6 +108,7 @@ SolveResult SubstepPipeline::solve(const SubstepWorld& world, const SolverInput&
   report.convergence = solved.convergence;
   report.converged = solved.converged;
   if (solved.midpoint_fallback) ++report.midpoint_fallbacks;
+  if (solved.cut) ++report.cut_substeps;
   return solved;
 }
 

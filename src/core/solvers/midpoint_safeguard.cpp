@@ -38,6 +38,7 @@ SolveResult MidpointSafeguard::step(const SolverInput& input, const SolverSettin
     euler.integrator = Integrator::kImplicitEuler;
     SolverInput half{input.model, input.pins, 0.5 * input.h, input.revision, nullptr};
     half.iteration_tolerance = 0.5 * input.iteration_tolerance;  // two steps share it
+    half.deadline = input.deadline;
     inner_->step(half, euler, state);
     solved = inner_->step(half, euler, state);
     state.time = before.time + input.h;

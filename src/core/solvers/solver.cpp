@@ -39,6 +39,7 @@ const char* linearSolverName(LinearSolver solver) {
     case LinearSolver::kFused: return "fused";
     case LinearSolver::kCholmod: return "cholmod";
     case LinearSolver::kEigen: return "eigen";
+    case LinearSolver::kFusedFloat: return "fused_float";
   }
   return "unknown";
 }
@@ -146,6 +147,7 @@ double IterationError::add(double change) {
 void SolverSettings::validate() const {
   settings::kIterations.require(max_iterations);
   settings::kSubsteps.require(substeps);
+  settings::kThreads.require(threads);
   settings::kTolerance.require(tolerance);
   settings::kErrorTolerance.require(error_tolerance);
   if (substeps == 0 && error_tolerance <= 0.0) {

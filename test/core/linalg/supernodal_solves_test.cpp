@@ -83,5 +83,96 @@ TEST(TriangularKernels, ForwardAndBackwardAreTheTwoTriangularSolves) {
   EXPECT_LT(distance(x, y), 1e-12 * y.norm());
 }
 
+/// The fused solve of @p f on @p b (one row per column of the factor's order), at @p threads.
+template <typename Real>
+std::vector<Real> solved(const SupernodalFactorT<Real>& f, const Eigen::MatrixX3d& b, int threads) {
+  std::vector<Real> x(kNodeStride * b.rows(), Real(0));
+  for (int k = 0; k < b.rows(); ++k)
+    for (int c = 0; c < 3; ++c) x[kNodeStride * k + c] = static_cast<Real>(b(k, c));
+  solveFused3(f, x.data(), threads);
+  return x;
+}
+
+struct SplitCase {
+  Eigen::SparseMatrix<double> a;
+  LowerFactor lower;
+  SupernodalFactor split;
+  Eigen::MatrixX3d b, expected;  // in the factor's order
+};
+
+/// A grid large enough to split into several levels of tasks.
+SplitCase splitCase(int side) {
+  SplitCase c;
+  c.a = test::gridSystemMatrix(side, side, 1.0 / 60.0);
+  c.lower = factorOf(c.a);
+  c.split = makeSupernodal(c.lower);
+  splitSolves(c.split, kSolveSplitDepth, 2000);
+  const Eigen::MatrixX3d b = Eigen::MatrixX3d::Random(c.a.rows(), 3);
+  const Eigen::MatrixX3d solution = Eigen::SimplicialLLT<Eigen::SparseMatrix<double>>(c.a).solve(b);
+  c.b.resize(c.a.rows(), 3);
+  c.expected.resize(c.a.rows(), 3);
+  for (int k = 0; k < c.lower.size; ++k) {
+    c.b.row(k) = b.row(c.lower.permutation[k]);
+    c.expected.row(k) = solution.row(c.lower.permutation[k]);
+  }
+  return c;
+}
+
+TEST(TriangularKernels, SplitCoversEverySupernodeOnceAndAncestorsComeLater) {
+  const SplitCase c = splitCase(40);
+  const SolveTasks& tasks = c.split.tasks;
+  ASSERT_GE(tasks.tasks.size(), 7u) << "a 40 x 40 grid splits into several levels";
+  std::vector<int> task_of(c.split.supernodeCount(), -1);
+  for (std::size_t t = 0; t < tasks.tasks.size(); ++t) {
+    for (int s : tasks.tasks[t].supernodes) {
+      ASSERT_EQ(task_of[s], -1) << "supernode " << s << " in two tasks";
+      task_of[s] = static_cast<int>(t);
+    }
+    const int parent = tasks.tasks[t].parent;
+    if (parent >= 0) EXPECT_GT(parent, static_cast<int>(t)) << "a separator runs after its subtrees";
+  }
+  for (int s = 0; s < c.split.supernodeCount(); ++s) ASSERT_GE(task_of[s], 0) << s;
+  // The leaves hold most of the work, and the part no two threads can share (the separator
+  // above everything) is small.
+  long leaves = 0, root = 0, all = 0;
+  for (const SolveTasks::Task& t : tasks.tasks) {
+    for (int s : t.supernodes) {
+      const long w = c.split.value_start[s + 1] - c.split.value_start[s];
+      all += w;
+      if (t.leaf) leaves += w;
+      if (t.parent < 0) root += w;
+    }
+  }
+  EXPECT_GT(leaves, 0.5 * all);
+  EXPECT_LT(root, 0.15 * all);
+}
+
+TEST(TriangularKernels, SplitSolveMatchesALibrarySolveWithTheSameBitsOnAnyThreads) {
+  const SplitCase c = splitCase(40);
+  const std::vector<double> one = solved(c.split, c.b, 1);
+  NodeBuffer x(one.begin(), one.end());
+  EXPECT_LT(distance(x, c.expected), 1e-12 * c.expected.norm());
+  for (int threads : {2, 3, 4, 16}) EXPECT_EQ(solved(c.split, c.b, threads), one) << threads;
+  // And the same bits whatever ran before (the scratch slots are rewritten by every solve).
+  EXPECT_EQ(solved(c.split, c.b, 2), one);
+}
+
+TEST(TriangularKernels, SinglePrecisionSolveIsCloseAndThreadIndependent) {
+  const SplitCase c = splitCase(40);
+  const SupernodalFactorF single = toSinglePrecision(c.split);
+  const std::vector<float> one = solved(single, c.b, 1);
+  NodeBuffer x(one.begin(), one.end());
+  // Float: the factor's rounding amplified by the condition number (small at h = 1/60 s).
+  EXPECT_LT(distance(x, c.expected), 1e-5 * c.expected.norm());
+  EXPECT_GT(distance(x, c.expected), 1e-12 * c.expected.norm());  // it is float
+  for (int threads : {2, 3}) EXPECT_EQ(solved(single, c.b, threads), one) << threads;
+}
+
+TEST(TriangularKernels, ASmallFactorIsNotSplit) {
+  SupernodalFactor f = makeSupernodal(factorOf(test::gridSystemMatrix(6, 6, 1.0 / 60.0)));
+  splitSolves(f);
+  EXPECT_TRUE(f.tasks.tasks.empty());
+}
+
 }  // namespace
 }  // namespace cloth_sim

@@ -106,11 +106,14 @@ TEST(Simulation, NoParticleInsideASphereOrBelowTheGround) {
 
 TEST(Simulation, ClothComesToRestOnStillColliders) {
   // A contact response that added energy would keep a draped cloth jittering. Falling, the
-  // cloth carries about 1 J of kinetic energy; draped, it must settle to rest.
+  // cloth carries about 1 J of kinetic energy; draped, it must settle to rest. The drape slides
+  // off its sphere near 6 s, a moment that moves with round-off (the threads' block sums and the
+  // solves' split moved it): measured at 8 s it was still settling (1.9e-4 J, then 1.1e-4 at
+  // 8.7 s, 5.9e-5 at 10 s), so it is judged at 12 s (1.9e-5 J).
   for (const std::string scene : {"drape", "trampoline"}) {
     Simulation sim = sceneWithSolver(scene, "local_global");
     double peak = 0.0, kinetic = 0.0;
-    for (int k = 0; k < 480; ++k) {
+    for (int k = 0; k < 720; ++k) {
       sim.step();
       kinetic = 0.5 * (sim.state().velocities.colwise().squaredNorm() * sim.model().mass)(0);
       peak = std::max(peak, kinetic);

@@ -11,6 +11,7 @@
 
 #include "cloth_sim/core/collision/colliders.h"
 #include "cloth_sim/core/linalg/node_buffer.h"
+#include "cloth_sim/core/linalg/parallel.h"
 #include "cloth_sim/core/model/model.h"
 
 namespace cloth_sim {
@@ -78,6 +79,10 @@ class ContactForces {
   /// keeps the forces for the next step's warm start.
   void finish(Colliders& colliders);
 
+  /// Threads of the contact loops (detection, update, forces; SolverSettings::threads resolved).
+  /// The loops' blocks are fixed, so the results do not depend on it.
+  void setThreads(int threads) { threads_ = threads; }
+
   /// Friction of the still contacts (ground, mesh obstacles) completed after the solve, one
   /// full projected Jacobi step on the positions the iterations reached (@p positions, 3 x N,
   /// particle order): a contact whose friction can cancel what is left of its slip within the
@@ -142,12 +147,16 @@ class ContactForces {
     std::array<int, 3> vertex;
     int count;
   };
+  // Detection (contact_detection.cpp).
   /// Lists the features with no pinned vertex and their boxes over the step (start to @p y).
   void boxFeatures(const Model& model, const Points& y);
   /// Adds the contacts of dynamic sphere @p body with the features near its swept path.
   void addCandidates(std::size_t body, const Points& y);
   /// Vertex contacts with the ground and the mesh obstacles (still half-spaces, no reaction).
   void addStillCandidates(const Model& model, const Points& y);
+  /// Barycentric weights of @p q, a point of triangle (a, b, c).
+  static std::array<double, 3> barycentric(const Vec3& q, const Vec3& a, const Vec3& b,
+                                           const Vec3& c);
   /// Signed distance (m) of the contact point beyond the contact's half-space.
   double gap(const Contact& c, const NodeBuffer& x) const;
   void placeBodies();
@@ -165,11 +174,22 @@ class ContactForces {
   std::vector<Body> bodies_;
   std::vector<Feature> features_;                    ///< boxFeatures' features
   std::vector<Eigen::AlignedBox3d> feature_boxes_;   ///< and their swept boxes (m)
-  /// Node offsets of the vertices the contacts touch, and their summed force (work buffer of
-  /// addForces: each vertex's forces are summed before they reach the right-hand side).
+  /// Node offsets of the vertices the contacts touch; per slot of touched_, its contact
+  /// vertices (3 contact + j) in contact order, [slot_begin_[t], slot_begin_[t + 1]) of
+  /// slot_entry_: addForces sums each vertex's forces in that order before they reach the
+  /// right-hand side.
   std::vector<int> touched_;
-  mutable std::vector<Vec3> touched_force_;
+  std::vector<int> slot_begin_, slot_entry_;
   std::vector<int> slot_of_;  ///< indexVertices' work buffer: a vertex's slot in touched_, or -1
+  int threads_ = 1;
+  /// Calls @p f(contact) for every contact, in fixed blocks on up to threads_ threads.
+  template <typename F>
+  void forEachContact(F&& f) {
+    const BlockSplit split(contacts_.size(), 256);
+    parallelFor(threads_, split.blocks(), [&](int b) {
+      for (std::size_t k = split.begin(b); k < split.end(b); ++k) f(contacts_[k]);
+    });
+  }
   /// Key of vertex_force_: a contact's source (any int) and a vertex (>= 0).
   static std::uint64_t forceKey(int source, int vertex) {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(source)) << 32) |

@@ -12,6 +12,7 @@
 
 #include "cloth_sim/core/collision/cell_hash.h"
 #include "cloth_sim/core/collision/colliders.h"
+#include "cloth_sim/core/linalg/parallel.h"
 #include "cloth_sim/core/linalg/types.h"
 
 namespace cloth_sim {
@@ -70,6 +71,9 @@ class ParticleSelfContact {
   std::vector<std::pair<int, int>> contacts(const Points& positions);
   /// How many times resolve has rebuilt its pair list (for tests and the benchmark).
   long rebuilds() const { return rebuilds_; }
+  /// Threads of the pair search (fixed blocks of particles: the same pairs, in the same order,
+  /// for any count).
+  void setThreads(int threads) { threads_ = threads; }
 
  private:
   bool neighbours(int i, int j) const;
@@ -90,6 +94,7 @@ class ParticleSelfContact {
   Points built_at_;           ///< positions pairs_ was built at (empty: none)
   long rebuilds_ = 0;
   Points before_;
+  int threads_ = 1;
 };
 
 }  // namespace cloth_sim

@@ -100,6 +100,10 @@ class SelfContact {
   /// Thread CPU time (s) spent in limitDisplacement and resolve since construction (the
   /// benchmark's measure: not inflated when other processes share the core).
   double cpuSeconds() const { return cpu_seconds_; }
+  /// Threads of the searches (mode particles: the pair search; mode triangles: the
+  /// intersection check of tangles), in fixed blocks: the same pairs in the same order for any
+  /// count.
+  void setThreads(int threads);
 
  private:
   SelfContactMode mode_;

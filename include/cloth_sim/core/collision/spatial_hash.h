@@ -4,6 +4,7 @@
 /// an item a query costs O(1) on average and N queries cost O(N).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -17,10 +18,11 @@ class SpatialHash {
   /// @p cell_size in m, > 0.
   explicit SpatialHash(double cell_size = 1.0);
 
-  /// Stores item @p id (>= 0) in every cell @p box overlaps.
+  /// Stores item @p id (>= 0, each id once) in every cell @p box overlaps.
   void insert(int id, const Eigen::AlignedBox3d& box);
   /// Calls visit(id) once for every stored item whose cells overlap @p box (a superset of the
-  /// items whose boxes overlap it). Not thread-safe (it keeps a visit stamp per item).
+  /// items whose boxes overlap it), in the order of the first cell where each is met. Const:
+  /// any number of threads may query at once.
   template <typename Visit>
   void query(const Eigen::AlignedBox3d& box, Visit&& visit) const;
 
@@ -34,16 +36,11 @@ class SpatialHash {
 
   double cell_size_;
   std::unordered_map<Key, std::vector<int>> cells_;
-  mutable std::vector<unsigned> stamp_;
-  mutable unsigned epoch_ = 0;
+  std::vector<Eigen::Vector3i> low_;  ///< per item, the lowest cell of its box
 };
 
 template <typename Visit>
 void SpatialHash::query(const Eigen::AlignedBox3d& box, Visit&& visit) const {
-  if (++epoch_ == 0) {  // wrapped: forget every stamp
-    std::fill(stamp_.begin(), stamp_.end(), 0u);
-    epoch_ = 1;
-  }
   const Eigen::Vector3i lo = cellOf(box.min()), hi = cellOf(box.max());
   for (int x = lo.x(); x <= hi.x(); ++x)
     for (int y = lo.y(); y <= hi.y(); ++y)
@@ -51,8 +48,13 @@ void SpatialHash::query(const Eigen::AlignedBox3d& box, Visit&& visit) const {
         const auto it = cells_.find(key(x, y, z));
         if (it == cells_.end()) continue;
         for (int id : it->second) {
-          if (stamp_[id] == epoch_) continue;
-          stamp_[id] = epoch_;
+          // An item's cells form a box: the loops above meet it first in the cell whose
+          // coordinates are the larger of its lowest cell's and the query's.
+          const Eigen::Vector3i& low = low_[id];
+          if (x != std::max(low.x(), lo.x()) || y != std::max(low.y(), lo.y()) ||
+              z != std::max(low.z(), lo.z())) {
+            continue;
+          }
           visit(id);
         }
       }

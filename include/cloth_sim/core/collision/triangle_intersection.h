@@ -42,6 +42,8 @@ class IntersectionCounter {
   int count(const Points& positions) { return static_cast<int>(find(positions, nullptr)); }
   /// The intersecting pairs (first < second), for tests and diagnostics.
   std::vector<std::pair<int, int>> pairs(const Points& positions);
+  /// Threads of the search (fixed blocks of triangles: the same count and pairs for any count).
+  void setThreads(int threads) { threads_ = threads; }
 
  private:
   std::size_t find(const Points& positions, std::vector<std::pair<int, int>>* out);
@@ -54,6 +56,7 @@ class IntersectionCounter {
   std::vector<int> oversize_;
   std::vector<char> is_oversize_;
   CellHash hash_;
+  int threads_ = 1;
 };
 
 }  // namespace cloth_sim

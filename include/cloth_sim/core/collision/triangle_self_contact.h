@@ -77,6 +77,9 @@ class TriangleSelfContact {
   /// apart at rest, among the pairs within @p cap (m) at @p x; @p cap if none (for tests: the
   /// layers' separation).
   double minPairDistance(const Points& x, double cap);
+  /// Threads of the intersection check of a substep's start (IntersectionCounter::setThreads);
+  /// the other stages run on one.
+  void setThreads(int threads) { counter_.setThreads(threads); }
 
  private:
   /// contacts_ from the broad phase's pairs for the motion start -> end.

@@ -5,9 +5,11 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "cloth_sim/core/collision/colliders.h"
 #include "cloth_sim/core/linalg/types.h"
+#include "cloth_sim/core/model/pins.h"
 
 namespace cloth_sim {
 
@@ -32,16 +34,35 @@ struct SceneLimits {
   /// gets an infinite inverse mass in the contact impulses.
   static constexpr double kMinBallToCloth = 1e-9;
 
+  /// How far a pin's target may be from center, in cloth sizes: two pins can then be at most
+  /// 3 sizes apart, a stretch the cloth follows without diverging (a target 5 m below a 1 m
+  /// cloth, within the 20 m reach, looped automatic resets every 0.5 s).
+  static constexpr double kPinReachSizes = 1.5;
+  /// How fast a pin's target moves towards where it was sent, in cloth sizes per second (2 m/s
+  /// on a 1 m cloth; a 1.5 m jump in one frame gave a 3990 % strain spike).
+  static constexpr double kPinSpeedSizes = 2.0;
+
   /// The limits of @p sim's initial cloth, with @p reach (m, > 0).
   static SceneLimits of(const Simulation& sim, double reach = kDefaultReach);
 
   /// @p point (m) must lie within reach of center.
   void checkPoint(const std::string& what, const Vec3& point) const;
+  /// A pin target @p point (m): checkPoint, and within kPinReachSizes of the cloth's size of
+  /// center.
+  void checkPinTarget(const std::string& what, const Vec3& point) const;
+  /// m/s, the speed a pin's target is followed at (Simulation::setPinSpeedLimit).
+  double pinSpeed() const { return kPinSpeedSizes * size; }
   /// The sphere's centre within reach; its radius at most the cloth's size (a larger sphere
   /// around the cloth flings every particle to its surface); its mass 0 or between
   /// kMinBallToCloth and kMaxBallToCloth times the cloth's; its speed at most its radius per implicit step @p substep (s): faster,
   /// it crosses the cloth between two contact resolutions.
   void checkSphere(const std::string& what, const SphereCollider& sphere, double substep) const;
+  /// @p sphere must not hold a hard-pinned particle of @p pins (at @p positions, m) or a pin
+  /// target inside it: the pinned particles skip collisions, so the cloth around them would be
+  /// stuck across the sphere's surface (a 1 m sphere around the hanging cloth: 830 % strain for
+  /// as long as it stays).
+  static void checkSphereAroundPins(const std::string& what, const SphereCollider& sphere,
+                                    const std::vector<Pin>& pins, const Points& positions);
 };
 
 }  // namespace cloth_sim

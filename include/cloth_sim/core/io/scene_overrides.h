@@ -1,9 +1,10 @@
 /// @file scene_overrides.h
 /// What a caller replaces in a scene before building it: the node's ~solver / ~iterations /
-/// ~substeps / ~self_collision, the runner's --solver, --iterations, --substeps, --tolerance,
-/// --linear-solver, --dt, --warm-start, --integrator, --self-collision and --resolution, the
-/// benchmark's configurations. Each caller checks its values against settings_table.h, naming
-/// them as it calls them (Setting::refusal); Simulation checks the result when it is built.
+/// ~substeps / ~error_tolerance / ~self_collision / ~threads, the runner's --solver,
+/// --iterations, --substeps, --tolerance, --error-tolerance, --linear-solver, --dt,
+/// --warm-start, --integrator, --self-collision, --resolution and --threads, the benchmark's
+/// configurations. Each caller checks its values against settings_table.h, naming them as it
+/// calls them (Setting::refusal); Simulation checks the result when it is built.
 #pragma once
 
 #include <optional>
@@ -26,6 +27,7 @@ struct SceneOverrides {
   std::optional<double> time_step;              ///< s
   std::optional<bool> warm_start;               ///< SolverSettings::warm_start
   std::optional<Integrator> integrator;         ///< SolverSettings::integrator
+  std::optional<int> threads;                   ///< SolverSettings::threads
   /// Per-solver settings (SolverSettings::params), each replacing the scene's value.
   std::vector<std::pair<const SolverParam*, double>> params;
   /// SelfContactSettings::enabled (on with the scene's thickness and friction, or defaults).

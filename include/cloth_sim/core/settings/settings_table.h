@@ -66,7 +66,10 @@ inline constexpr NameSetting kIntegrator{"solver.integrator", "integrator",
 inline constexpr Setting kIterations{"solver.iterations",       "iterations",           Range::closed(1, 100000),           true,  "",       "",                  "Solver iterations per step (a cap for newton)",     0};
 inline constexpr Setting kSubsteps{"solver.substeps",           "substeps",             Range::closed(0, 1000),             true,  "",       "(0 = chosen by the error estimate)", "Implicit steps per frame (each time_step / substeps); 0: chosen to meet error_tolerance", 0};
 inline constexpr Setting kErrorTolerance{"solver.error_tolerance", "error_tolerance",   Range::closed(0, 1),                false, "m",      "(0 = fixed iterations)", "Position error a frame may make (RMS): iterations and substeps follow it", 0.01};
-inline constexpr Setting kTolerance{"solver.tolerance",         "",                     Range::atLeast(0),                  false, "",       "",                  "Stop below this relative position change (0 = never)", 0};
+inline constexpr Setting kThreads{"solver.threads",           "threads",              Range::closed(0, 1024),             true,  "",       "(0 = every core)",  "Threads of a frame's kernels; results are the same for any count", 0};
+// Below 1: the relative change of an iteration is |x_k - x_{k-1}| / |x_k - x_0|, which is 1 at
+// the first iteration, so a tolerance of 1 or more stopped every step after one iteration.
+inline constexpr Setting kTolerance{"solver.tolerance",         "",                     Range{0, 1, false, true},           false, "",       "(0 = never)",       "Stop below this relative position change (0 = never)", 0};
 inline constexpr Setting kTimeStep{"time_step",                 "",                     Range::closed(1e-6, 1),             false, "s",      "",                  "Time step h",                                        0};
 inline constexpr Setting kDivergenceStrain{"divergence_strain", "",                     Range::atLeast(1),                  false, "",       "(1 = 100 %)",       "Strain beyond which a step counts as diverged",      0};
 inline constexpr Setting kArealDensity{"material.areal_density", "",                    Range::closed(1e-6, 1e6),           false, "kg/m^2", "",                  "Mass per area of the cloth",                         0};
@@ -94,6 +97,7 @@ inline constexpr Setting kGraspRadius{"grasp.radius",          "",              
 inline constexpr Setting kRealTimeFactor{"real_time_factor",    "real_time_factor",     Range::closed(0, 1000),             false, "",       "(0 = as fast as possible)", "Simulated seconds per wall-clock second",     0};
 inline constexpr Setting kGraspFrameTimeout{"grasp_frame_timeout", "grasp_frame_timeout", Range::above(0),                  false, "s",      "",                  "A grasp frame whose latest transform is older is stale", 0};
 inline constexpr Setting kFrameBudget{"budget_ms",              "budget_ms",            Range::closed(0, 1000),             false, "ms",     "(0 = off)",         "Wall-clock budget of a frame: the substeps adapt to fit it (0 = off)", 100};
+inline constexpr Setting kFrameDeadline{"frame_deadline_ms",   "frame_deadline_ms",    Range::closed(0, 60000),            false, "ms",     "(0 = none)",        "Wall-clock time a frame may take before its work is cut (iterations stopped, the rest of its substeps run as one)", 0};
 inline constexpr Setting kTfBufferDuration{"tf_buffer_duration", "tf_buffer_duration", Range::closed(1, 3600),     false, "s",      "",                  "History kept by the node's tf buffer (a trajectory published ahead must fit in it)", 0};
 inline constexpr Setting kForceArrowScale{"force_arrow_scale",  "force_arrow_scale",    Range::atLeast(0),                  false, "m/N",    "",                  "Length of a grasp's force arrow per newton",        0};
 // The node's own parameters (src/node/options.cpp): drawing, pacing and recovery.
@@ -116,14 +120,14 @@ inline constexpr Setting kGravity{"gravity",                    "",             
 
 /// Every setting above, in that order (a solver's own settings are in its registry entry).
 inline constexpr const Setting* kAllSettings[] = {
-    &kIterations, &kSubsteps, &kErrorTolerance, &kTolerance, &kTimeStep,
+    &kIterations, &kSubsteps, &kErrorTolerance, &kThreads, &kTolerance, &kTimeStep,
     &kDivergenceStrain, &kArealDensity, &kDamping,
     &kStructuralStiffness, &kShearStiffness, &kBendingStiffness, &kParticleMass,
     &kRestLength, &kGridResolution, &kGridSize, &kMeshScale,
     &kBodySize, &kCapsuleLength, &kBodyMargin,
     &kMeshThickness, &kPinStiffness, &kSphereRadius, &kSphereMass,
     &kRestitution, &kFriction, &kSelfThickness, &kSelfFriction,
-    &kGraspRadius, &kRealTimeFactor, &kGraspFrameTimeout, &kFrameBudget,
+    &kGraspRadius, &kRealTimeFactor, &kGraspFrameTimeout, &kFrameBudget, &kFrameDeadline,
     &kTfBufferDuration, &kForceArrowScale, &kRenderRate, &kMarkerBandwidth, &kMaxRollbacks,
     &kStrainColorScale, &kSphereCullDistance, &kMaxInteractivePins, &kSummaryPeriod,
     &kRunDuration, &kRunFrames, &kFoldTime, &kCoordinate,

@@ -185,6 +185,17 @@ class Simulation {
   void setSubstepLimit(int max_substeps) {
     controller_.setMaxSubsteps(std::min(max_substeps, kMaxAutomaticSubsteps));
   }
+  /// Wall-clock time (s) a frame may take before its work is cut (0: never, the default, which
+  /// gives the same results on any machine). Past it, each solver stops iterating after its
+  /// current iteration and the frame's remaining substeps run as one implicit step to the
+  /// frame's end; StepReport::cut_substeps and merged_substeps say so. The frame then takes
+  /// about the deadline plus one substep of one iteration, whatever the settings (the node's
+  /// guard against a setting that would hold it for seconds). Throws for a negative or
+  /// non-finite value.
+  void setFrameDeadline(double seconds);
+  double frameDeadline() const { return frame_deadline_; }
+  /// The most substeps automatic substeps may take now (setSubstepLimit, else the cap).
+  int substepLimit() const { return controller_.maxSubsteps(); }
   /// Automatic substeps: at most this many per frame...
   static constexpr int kMaxAutomaticSubsteps = 128;
   /// ... and this many at the first frame (the controller takes it from there).
@@ -223,6 +234,9 @@ class Simulation {
   /// The farthest a pin's target moves in one frame (m): substeps x the shortest spring's rest
   /// length x divergence_strain / 10. A target set farther away is approached at that speed.
   double maxPinMove() const;
+  /// A speed limit on the pins' targets (m/s; 0: none, the default): maxPinMove() is then at
+  /// most this times the frame time. Throws for a negative or non-finite value.
+  void setPinSpeedLimit(double metres_per_second);
   /// Bumped when h, a stiffness, a mass, the pin set or the integrator changes (see
   /// SolverInput::revision).
   std::uint64_t revision() const { return revision_; }
@@ -268,6 +282,8 @@ class Simulation {
   int substeps_ = 0;                     ///< of the next frame, see substeps()
   StepController controller_{1.0, 1, 1, 1};  ///< automatic substeps (set up by changed)
   std::vector<Vec3> pin_loads_;  ///< N, see pinLoads()
+  double frame_deadline_ = 0.0;  ///< s, setFrameDeadline (0: none); not physics, not snapshotted
+  double pin_speed_limit_ = 0.0;  ///< m/s, setPinSpeedLimit (0: none)
 };
 
 }  // namespace cloth_sim

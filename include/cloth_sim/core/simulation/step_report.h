@@ -53,6 +53,14 @@ struct StepReport {
   /// Substeps of this frame whose implicit midpoint step gained energy and were redone as two
   /// implicit Euler steps of h/2 (MidpointSafeguard, docs/method.md "Implicit midpoint").
   int midpoint_fallbacks = 0;
+  /// The frame deadline (Simulation::setFrameDeadline): substeps whose iterations it stopped
+  /// before their count or tolerance, and substeps of the frame that were run as one at its
+  /// end instead of their own (the frame still advances its whole time). Both 0 when the frame
+  /// finished in time: the work the settings asked for was done.
+  int cut_substeps = 0;
+  int merged_substeps = 0;
+  /// The frame did less work than its settings asked (cut or merged substeps).
+  bool shortfall() const { return cut_substeps > 0 || merged_substeps > 0; }
   std::string message;  ///< empty when ok; otherwise what went wrong and what was done
 };
 

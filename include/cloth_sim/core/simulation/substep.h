@@ -2,6 +2,8 @@
 /// One implicit step of a frame with its contacts: the substep pipeline of Simulation::step.
 #pragma once
 
+#include <chrono>
+
 #include <cstdint>
 #include <vector>
 
@@ -27,6 +29,8 @@ struct SubstepWorld {
   State& state;
   Colliders& colliders;
   std::vector<Vec3>& pin_loads;  ///< N, per pin of the substep (PinReactions)
+  /// The frame's deadline (SolverInput::deadline; max(): none).
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
 /// One implicit step of h, in this order:

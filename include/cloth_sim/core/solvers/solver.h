@@ -2,6 +2,7 @@
 /// One interface for every time integrator, selectable by name.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -16,17 +17,23 @@
 namespace cloth_sim {
 
 /// How local/global and chebyshev solve their global step (M + h^2 L) x = b, and how newton
-/// factors its Hessian (kEigen: Eigen SimplicialLLT; the others: CHOLMOD supernodal). All give
-/// the same iterates to round-off; they differ in speed only (docs/benchmark.md, "Performance").
+/// factors its Hessian (kEigen: Eigen SimplicialLLT; the others: CHOLMOD supernodal). The double
+/// ones give the same iterates to round-off; they differ in speed only (docs/benchmark.md,
+/// "Performance").
 enum class LinearSolver {
   kFused,    ///< CHOLMOD factor (AMD or METIS ordering), hand-written fused 3-column solves
   kCholmod,  ///< CHOLMOD factor and CHOLMOD's own solve, x, y and z as three columns
   kEigen,    ///< Eigen SimplicialLLT (AMD) and its solve: the first implementation, kept to compare
+  /// kFused's factor rounded to float and solved in float, for a correction of the double
+  /// residual: x_{k+1} = x_k + A_f^-1 (b(x_k) - A x_k). The same fixed point as kFused (the
+  /// residual is exact), reached along iterates that differ from kFused's by about 1e-7
+  /// relative; newton treats it as kFused (docs/method.md, "Single-precision factor").
+  kFusedFloat,
 };
 /// Every LinearSolver, in the order of the enum.
 inline constexpr LinearSolver kLinearSolvers[] = {LinearSolver::kFused, LinearSolver::kCholmod,
-                                                  LinearSolver::kEigen};
-/// "fused", "cholmod", "eigen".
+                                                  LinearSolver::kEigen, LinearSolver::kFusedFloat};
+/// "fused", "cholmod", "eigen", "fused_float".
 const char* linearSolverName(LinearSolver solver);
 /// The names of kLinearSolvers.
 std::vector<std::string> linearSolverNames();
@@ -115,6 +122,11 @@ struct SolverSettings {
   bool warm_start = false;
   /// How the linear systems are solved (same result, different speed), see LinearSolver.
   LinearSolver linear_solver = LinearSolver::kFused;
+  /// Threads of the step's kernels (scene field solver.threads, settings::kThreads; 0 = every
+  /// core the process may use). The work is split in blocks fixed by the problem, never by
+  /// this count, so the result is the same to the bit for any value (docs/architecture.md,
+  /// "Threads").
+  int threads = 0;
   /// The time discretisation (scene field solver.integrator). The implicit solvers all minimise
   /// the same ImplicitStepProblem for it; the explicit baselines refuse kBdf2 and
   /// kImplicitMidpoint.
@@ -150,6 +162,8 @@ struct SolveResult {
   /// the free particles (IterationError; docs/method.md, "Error control"); 0 for the explicit
   /// solvers, which have nothing to converge.
   double iteration_error = 0.0;
+  /// The iterations stopped at SolverInput::deadline, before their count or tolerance.
+  bool cut = false;
 };
 
 /// The iteration error of a linearly converging iteration, from its position changes: with the
@@ -195,6 +209,16 @@ struct SolverInput {
   /// use them (lbfgs, newton, local_global_3n and the explicit solvers ignore them; Simulation
   /// then resolves contacts after the step).
   ContactForces* contacts = nullptr;
+  /// Wall-clock time after which an iterative solver stops iterating (after its first
+  /// iteration) and says so (SolveResult::cut): Simulation's frame deadline, so that no setting
+  /// holds the caller for longer than that. max(): never (the default: same results on any
+  /// machine).
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  /// Whether the deadline has passed.
+  bool pastDeadline() const {
+    return deadline != std::chrono::steady_clock::time_point::max() &&
+           std::chrono::steady_clock::now() >= deadline;
+  }
 };
 
 /// What a solver's step carries over to the next besides the State: its warm start, x - y of the

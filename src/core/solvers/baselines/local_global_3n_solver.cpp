@@ -72,6 +72,10 @@ SolveResult LocalGlobal3nSolver::step(const SolverInput& in, const SolverSetting
       result.converged = true;
       break;
     }
+    if (k + 1 < settings.max_iterations && in.pastDeadline()) {
+      result.cut = true;
+      break;
+    }
   }
   if (in.iteration_tolerance > 0.0) result.iteration_error = error.estimate();
   state = problem.finish(x, state.time);

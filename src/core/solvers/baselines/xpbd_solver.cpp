@@ -83,8 +83,14 @@ SolveResult XpbdSolver::step(const SolverInput& in, const SolverSettings& settin
   std::fill(lambda_.begin(), lambda_.end(), 0.0);
   pin_lambda_.assign(in.pins.pins().size(), Vec3::Zero());
   std::vector<Vec3>& pin_lambda = pin_lambda_;
-  const int sweeps = settings.max_iterations;
+  int sweeps = settings.max_iterations;
+  bool cut = false;
   for (int sweep = 0; sweep < sweeps; ++sweep) {
+    if (sweep > 0 && in.pastDeadline()) {
+      sweeps = sweep;
+      cut = true;
+      break;
+    }
     for (std::size_t s = 0; s < springs_; ++s) {
       const double alpha = alpha_tilde_[s];
       const int i = first[s], j = second[s];
@@ -116,7 +122,9 @@ SolveResult XpbdSolver::step(const SolverInput& in, const SolverSettings& settin
   }
   state.velocities = (p - start) / h;
   state.time += h;
-  return SolveResult{sweeps, 0.0, false, false};
+  SolveResult result{sweeps, 0.0, false, false};
+  result.cut = cut;
+  return result;
 }
 
 }  // namespace cloth_sim

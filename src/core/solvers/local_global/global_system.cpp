@@ -1,7 +1,11 @@
 #include "cloth_sim/core/solvers/local_global/global_system.h"
 
+#include <algorithm>
 #include <numeric>
 #include <stdexcept>
+#include <utility>
+
+#include "cloth_sim/core/solvers/local_global/local_step.h"
 
 
 namespace cloth_sim {
@@ -12,6 +16,8 @@ void GlobalSystem::factor(const Eigen::SparseMatrix<double>& a, LinearSolver bac
   order_.resize(n);
   std::iota(order_.begin(), order_.end(), 0);
   supernodal_ = SupernodalFactor{};
+  single_ = SupernodalFactorF{};
+  row_begin_.clear();
   columns_.resize(n, 3);
   solution_.resize(n, 3);
   factor_nonzeros_ = 0;
@@ -24,19 +30,80 @@ void GlobalSystem::factor(const Eigen::SparseMatrix<double>& a, LinearSolver bac
   } else {
     ok = cholmod_.compute(a);
     factor_nonzeros_ = static_cast<long>(cholmod_.factorNonZeros());
-    if (ok && backend == LinearSolver::kFused) {
+    if (ok && (backend == LinearSolver::kFused || backend == LinearSolver::kFusedFloat)) {
       supernodal_ = makeSupernodal(cholmod_.exportLower());
+      splitSolves(supernodal_);  // the fixed split the threads share (a function of A only)
       order_ = supernodal_.permutation;
+    }
+    if (ok && backend == LinearSolver::kFusedFloat) {
+      single_ = toSinglePrecision(supernodal_);
+      single_work_.assign(static_cast<std::size_t>(kNodeStride) * n, 0.0f);
+      keepNodeMatrix(a);
     }
   }
   if (!ok) throw std::runtime_error("global step matrix is not positive definite");
+}
+
+void GlobalSystem::keepNodeMatrix(const Eigen::SparseMatrix<double>& a) {
+  // Row k in node order is column order_[k] of the symmetric a; its entries by node.
+  const int n = size();
+  std::vector<int> node_of(n);
+  for (int k = 0; k < n; ++k) node_of[order_[k]] = k;
+  row_begin_.assign(1, 0);
+  column_.clear();
+  value_.clear();
+  std::vector<std::pair<int, double>> row;
+  for (int k = 0; k < n; ++k) {
+    row.clear();
+    for (Eigen::SparseMatrix<double>::InnerIterator it(a, order_[k]); it; ++it) {
+      row.emplace_back(node_of[it.row()], it.value());
+    }
+    std::sort(row.begin(), row.end());
+    for (const auto& [column, value] : row) {
+      column_.push_back(column);
+      value_.push_back(value);
+    }
+    row_begin_.push_back(static_cast<int>(column_.size()));
+  }
+}
+
+void GlobalSystem::globalStep(const double* x, double* b) {
+  const int n = size();
+  if (backend_ != LinearSolver::kFusedFloat || n == 0) return solveInPlace(b);
+  const BlockSplit split(static_cast<std::size_t>(n), kNodeGrain);
+  float* r = single_work_.data();
+  parallelFor(threads_, split.blocks(), [&](int block) {  // r = b - A x, rounded to float
+    for (std::size_t k = split.begin(block); k < split.end(block); ++k) {
+      double ax[3] = {0.0, 0.0, 0.0};
+      for (int e = row_begin_[k]; e < row_begin_[k + 1]; ++e) {
+        const double* xj = x + kNodeStride * column_[e];
+        for (int c = 0; c < 3; ++c) ax[c] += value_[e] * xj[c];
+      }
+      for (int c = 0; c < 3; ++c) r[kNodeStride * k + c] = static_cast<float>(b[kNodeStride * k + c] - ax[c]);
+    }
+  });
+  solveFused3(single_, r, threads_);
+  parallelFor(threads_, split.blocks(), [&](int block) {  // x + the correction
+    for (std::size_t k = split.begin(block); k < split.end(block); ++k) {
+      for (int c = 0; c < 3; ++c) {
+        b[kNodeStride * k + c] = x[kNodeStride * k + c] + static_cast<double>(r[kNodeStride * k + c]);
+      }
+    }
+  });
 }
 
 void GlobalSystem::solveInPlace(double* x) {
   const int n = size();
   if (n == 0) return;
   if (backend_ == LinearSolver::kFused) {
-    solveFused3(supernodal_, x);
+    solveFused3(supernodal_, x, threads_);
+    return;
+  }
+  if (backend_ == LinearSolver::kFusedFloat) {
+    float* r = single_work_.data();
+    for (std::size_t k = 0; k < single_work_.size(); ++k) r[k] = static_cast<float>(x[k]);
+    solveFused3(single_, r, threads_);
+    for (std::size_t k = 0; k < single_work_.size(); ++k) x[k] = static_cast<double>(r[k]);
     return;
   }
   for (int k = 0; k < n; ++k)

@@ -136,6 +136,10 @@ SolveResult LbfgsSolver::step(const SolverInput& in, const SolverSettings& setti
       result.converged = true;
       break;
     }
+    if (solves < settings.max_iterations && in.pastDeadline()) {
+      result.cut = true;
+      break;
+    }
   }
   result.iterations = solves;
   if (in.iteration_tolerance > 0.0) result.iteration_error = error.estimate();

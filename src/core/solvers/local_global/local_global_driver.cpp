@@ -65,6 +65,10 @@ SolveResult runLocalGlobal(LocalGlobalProblem& problem, Acceleration* accelerati
       result.converged = true;
       break;
     }
+    if (solves < max_solves && problem.pastDeadline()) {
+      result.cut = true;
+      break;
+    }
   }
   result.iterations = solves;
   result.iteration_error = tolerance > 0.0 ? error.estimate() : 0.0;

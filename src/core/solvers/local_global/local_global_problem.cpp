@@ -24,6 +24,7 @@ int LocalGlobalProblem::factorize(const SolverInput& in, LinearSolver backend, d
 
   const Eigen::SparseMatrix<double> a = globalStepMatrix(model, in.pins, dofs, h);
   f_->system.factor(a, backend);
+  f_->system.setThreads(threads_);
   correction_.clear();  // node order and system changed
 
   // Node order: free particles in the system's order, then the hard-pinned ones.
@@ -55,6 +56,7 @@ int LocalGlobalProblem::factorize(const SolverInput& in, LinearSolver backend, d
     f_->springs.add(a, b, h2 * k * r, k, r);
   }
   f_->springs.sortByNode();
+  f_->springs.partition(n);  // the local step's fixed blocks (threads)
   return nf > 0 ? 1 : 0;
 }
 
@@ -89,10 +91,15 @@ int LocalGlobalProblem::useFactor(const SolverInput& in, LinearSolver backend, d
 int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& settings,
                               const State& state) {
   const Model& model = in.model;
+  threads_ = resolveThreads(settings.threads);
   problem_ = ImplicitStepProblem::build(model, in.pins, state, in.h, settings.integrator);
   h_ = problem_.implicit_h;
   iteration_tolerance_ = in.iteration_tolerance;
+  deadline_ = in.deadline;
   const int factorizations = useFactor(in, settings.linear_solver, h_);
+  // Every kept factor solves on this step's threads, the ones made before too (the count may
+  // change between steps; the results do not depend on it).
+  for (const std::unique_ptr<Factored>& f : factors_) f->system.setThreads(threads_);
   gravity_ = model.gravity;
   const int n = model.particleCount();
   const Points& carried = pending_correction_.correction;
@@ -166,7 +173,7 @@ void LocalGlobalProblem::buildNodeMatrix(const Eigen::SparseMatrix<double>& a) {
 
 double LocalGlobalProblem::objectiveAndGradient(const NodeBuffer& x, NodeBuffer& gradient) {
   rhs_work_ = rhs_constant_;
-  const double spring_energy = localStep3(f_->springs, x.data(), rhs_work_.data());
+  const double spring_energy = localStep3(f_->springs, x.data(), rhs_work_.data(), threads_);
   gradient.assign(x.size(), 0.0);
   const NodeMatrix& m = f_->node_matrix;
   for (int k = 0; k < f_->free_count; ++k) {
@@ -189,7 +196,7 @@ double LocalGlobalProblem::objectiveAndGradient(const NodeBuffer& x, NodeBuffer&
 double LocalGlobalProblem::objectiveWith(const NodeBuffer& x, double spring_energy) const {
   const double h2 = h_ * h_;
   return inertiaAndGravity(x.data(), inertial_.data(), f_->node_mass.data(),
-                           static_cast<int>(f_->node_mass.size()), gravity_, h2) +
+                           static_cast<int>(f_->node_mass.size()), gravity_, h2, threads_) +
          h2 * (spring_energy + constant_energy_ + pinEnergy(x));
 }
 
@@ -204,15 +211,15 @@ double LocalGlobalProblem::pinEnergy(const NodeBuffer& x) const {
 }
 
 double LocalGlobalProblem::iterate(const NodeBuffer& x, NodeBuffer& x_next) {
-  x_next = rhs_constant_;
+  copyNodes(rhs_constant_, x_next, threads_);
   if (contacts_ != nullptr && !contacts_->empty()) {
     // Forces from the current iterate first, so the last global solve and the spheres'
     // reactions use the same forces (exact momentum balance).
     contacts_->update(x);
     contacts_->addForces(x_next);
   }
-  const double spring_energy = localStep3(f_->springs, x.data(), x_next.data());
-  f_->system.solveInPlace(x_next.data());  // global step: the free nodes, x, y and z at once
+  const double spring_energy = localStep3(f_->springs, x.data(), x_next.data(), threads_);
+  f_->system.globalStep(x.data(), x_next.data());  // the free nodes, x, y and z at once
   const std::size_t pinned_begin = static_cast<std::size_t>(kNodeStride) * f_->free_count;
   std::copy(x.begin() + pinned_begin, x.end(), x_next.begin() + pinned_begin);
   return objectiveWith(x, spring_energy);
@@ -225,7 +232,7 @@ double LocalGlobalProblem::rmsDistance(const NodeBuffer& a, const NodeBuffer& b)
 }
 
 double LocalGlobalProblem::objectiveAt(const NodeBuffer& x) const {
-  return objectiveWith(x, springEnergy3(f_->springs, x.data()));
+  return objectiveWith(x, springEnergy3(f_->springs, x.data(), threads_));
 }
 
 NodeBuffer LocalGlobalProblem::initialGuess(const SolverSettings& settings) const {

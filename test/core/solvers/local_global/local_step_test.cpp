@@ -71,6 +71,50 @@ TEST(LocalStep, CollapsedSpringAmongFourTakesTheSameFallback) {
   for (std::size_t k = 0; k < rhs.size(); ++k) EXPECT_DOUBLE_EQ(rhs[k], expected[k]) << k;
 }
 
+TEST(LocalStep, PartitionedStepIsTheSameSumInBlocksAndTheSameBitsOnAnyThreads) {
+  BuiltObject g = test::makeGrid(30, 30, 300.0, 30.0, 3.0);
+  const int n = g.model.particleCount();
+  const Springs& springs = g.model.springs;
+  SpringTable table;
+  for (std::size_t s = 0; s < springs.size(); ++s) {
+    table.add(springs.first[s], springs.second[s], 1e-3 * springs.stiffness[s] * springs.rest_length[s],
+              springs.stiffness[s], springs.rest_length[s]);
+  }
+  table.sortByNode();
+  NodeBuffer x(kNodeStride * n, 0.0);
+  const Points p = g.rest_positions + 0.05 * Points::Random(3, n);
+  for (int i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) x[kNodeStride * i + c] = p(c, i);
+  x[kNodeStride * 7] = x[kNodeStride * 8];  // a collapsed spring (7, 8) among the others
+  x[kNodeStride * 7 + 1] = x[kNodeStride * 8 + 1];
+  x[kNodeStride * 7 + 2] = x[kNodeStride * 8 + 2];
+  NodeBuffer whole(x.size(), 0.0);
+  const double energy = localStep3(table, x.data(), whole.data());
+
+  table.partition(n, 37);  // odd blocks: many boundary springs
+  ASSERT_GT(table.blocks(), 20);
+  ASSERT_GT(table.out_begin.back(), 100) << "boundary springs";
+  NodeBuffer one(x.size(), 0.0);
+  const double energy_one = localStep3(table, x.data(), one.data(), 1);
+  EXPECT_NEAR(energy_one, energy, 1e-13 * energy);
+  EXPECT_NEAR(springEnergy3(table, x.data(), 1), energy, 1e-13 * energy);
+  Vec3 total = Vec3::Zero();  // every push enters once with + and once with -
+  for (int i = 0; i < n; ++i) {
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(one[kNodeStride * i + c], whole[kNodeStride * i + c], 1e-14) << i;
+      total[c] += one[kNodeStride * i + c];
+    }
+    EXPECT_EQ(one[kNodeStride * i + 3], 0.0);
+  }
+  EXPECT_LT(total.norm(), 1e-14);
+  for (int threads : {2, 3, 5}) {
+    NodeBuffer many(x.size(), 0.0);
+    EXPECT_EQ(localStep3(table, x.data(), many.data(), threads), energy_one) << threads;
+    EXPECT_EQ(many, one) << threads;
+    EXPECT_EQ(springEnergy3(table, x.data(), threads), springEnergy3(table, x.data(), 1));
+  }
+}
+
 TEST(LocalStep, InertiaAndGravityMatchesItsDefinition) {
   NodeBuffer x = {1, 2, 3, 0, -1, 0, 2, 0}, y = {1, 1, 1, 0, 0, 0, 0, 0};
   const std::vector<double> mass = {2.0, 3.0};
@@ -78,6 +122,21 @@ TEST(LocalStep, InertiaAndGravityMatchesItsDefinition) {
   const double h2 = 0.01;
   const double expected = 2.0 * (0.5 * 5.0 - h2 * -30.0) + 3.0 * (0.5 * 5.0 - h2 * -20.0);
   EXPECT_DOUBLE_EQ(inertiaAndGravity(x.data(), y.data(), mass.data(), 2, gravity, h2), expected);
+  // Many nodes: blocks summed in order, the same bits on any threads.
+  const int count = 5000;
+  NodeBuffer xs(kNodeStride * count), ys(kNodeStride * count);
+  std::vector<double> masses(count);
+  for (int k = 0; k < count; ++k) {
+    masses[k] = 1.0 + 1e-3 * k;
+    for (int c = 0; c < 3; ++c) {
+      xs[kNodeStride * k + c] = std::sin(k + c);
+      ys[kNodeStride * k + c] = std::cos(3 * k + c);
+    }
+  }
+  const double one = inertiaAndGravity(xs.data(), ys.data(), masses.data(), count, gravity, h2, 1);
+  for (int threads : {2, 3}) {
+    EXPECT_EQ(inertiaAndGravity(xs.data(), ys.data(), masses.data(), count, gravity, h2, threads), one);
+  }
 }
 
 }  // namespace

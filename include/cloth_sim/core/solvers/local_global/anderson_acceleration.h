@@ -48,6 +48,7 @@ class AndersonAcceleration final : public Acceleration {
   NodeBuffer f_last_, g_last_;  ///< F and G of the previous accepted iterate
   bool has_last_ = false;
   int restarts_ = 0;
+  int threads_ = 1;  ///< SolverSettings::threads, resolved (the vector loops' blocks are fixed)
 };
 
 }  // namespace cloth_sim

@@ -50,6 +50,7 @@ class ChebyshevAcceleration final : public Acceleration {
   int delay_ = 1;
   double omega_ = 1.0;
   int since_restart_ = 0;  ///< accepted iterations since the (re)start
+  int threads_ = 1;        ///< SolverSettings::threads, resolved
 };
 
 }  // namespace cloth_sim

@@ -29,15 +29,31 @@ class GlobalSystem {
   int size() const { return static_cast<int>(order_.size()); }
   LinearSolver backend() const { return backend_; }
 
+  /// Threads of the fused solves (kFused, kFusedFloat; SolverSettings::threads resolved): the
+  /// factor's split (splitSolves) runs on them, with the same result for any count.
+  void setThreads(int threads) { threads_ = threads; }
+
   /// Solves A X = B in place; @p x holds size() nodes in order(), kNodeStride doubles each.
+  /// kFusedFloat solves in float (about 1e-7 relative).
   void solveInPlace(double* x);
 
-  /// The explicit factor used by kFused (empty for the other backends).
+  /// The global step from the iterate @p x (size() nodes in order()): @p b holds the
+  /// right-hand side b(x) on entry and the next iterate on exit. A^-1 b for the double
+  /// backends; for kFusedFloat x + A_f^-1 (b - A x), the double residual solved in float, so
+  /// that a fixed point (b(x) = A x) is the double one.
+  void globalStep(const double* x, double* b);
+
+  /// The explicit factor used by kFused and kFusedFloat (empty for the other backends).
   const SupernodalFactor& supernodal() const { return supernodal_; }
+  /// kFusedFloat's factor in float (empty for the other backends).
+  const SupernodalFactorF& supernodalFloat() const { return single_; }
   /// Nonzeros of the factor L, diagonal included.
   long factorNonZeros() const { return factor_nonzeros_; }
 
  private:
+  /// Keeps @p a (free-index order) by rows in node order: kFusedFloat's residual.
+  void keepNodeMatrix(const Eigen::SparseMatrix<double>& a);
+
   LinearSolver backend_ = LinearSolver::kFused;
   std::vector<int> order_;
   CholmodFactor cholmod_;
@@ -45,6 +61,12 @@ class GlobalSystem {
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> eigen_;
   Eigen::MatrixX3d columns_, solution_;  // library backends: x, y, z as three columns
   long factor_nonzeros_ = 0;
+  int threads_ = 1;
+  // kFusedFloat: the float factor, its work buffer and A in node order (rows of the residual).
+  SupernodalFactorF single_;
+  std::vector<float> single_work_;
+  std::vector<int> row_begin_, column_;
+  std::vector<double> value_;
 };
 
 /// The global step's matrix M + h^2 L_scalar (+ h^2 k on soft-pinned particles) over the free

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -95,6 +96,11 @@ class LocalGlobalProblem {
   double rmsDistance(const NodeBuffer& a, const NodeBuffer& b) const;
   /// m, SolverInput::iteration_tolerance of this step (0: none).
   double iterationTolerance() const { return iteration_tolerance_; }
+  /// Whether the step's SolverInput::deadline has passed.
+  bool pastDeadline() const {
+    return deadline_ != std::chrono::steady_clock::time_point::max() &&
+           std::chrono::steady_clock::now() >= deadline_;
+  }
   /// Free nodes: they come first in the node order, hard-pinned nodes after them.
   int freeNodeCount() const { return f_ != nullptr ? f_->free_count : 0; }
   /// The global step's factored system (valid after the first begin).
@@ -147,7 +153,10 @@ class LocalGlobalProblem {
   Factored* f_ = nullptr;                           ///< this step's
   double h_ = 0.0;                  ///< s, the implicit step h_i of this step
   double iteration_tolerance_ = 0.0;  ///< m, SolverInput::iteration_tolerance
+  /// SolverInput::deadline of the step.
+  std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
   Vec3 gravity_ = Vec3::Zero();
+  int threads_ = 1;                 ///< the kernels' threads (SolverSettings::threads, resolved)
 
   ImplicitStepProblem problem_;
   NodeBuffer inertial_;             ///< y

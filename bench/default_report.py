@@ -1,0 +1,125 @@
+"""The scene format's default against the error-control issue's bars, and its error estimate
+against the true local error.
+
+Reads the results of `cloth_sim_bench accuracy --default-only` (accuracy.csv,
+accuracy_reference.csv, local_error.csv) from one or more directories and writes into the
+first directory given after --out:
+- default.md: per case at 1 s, the default's RMS error over the diagonal, its max strain and
+  energy over the reference's, the ms per frame (wall and CPU, median) and the mean substeps,
+  each bar marked; then, per case, the estimate of each probed frame over its true local error.
+- local_error.png: estimate against true local error (m per frame), log-log, with the line of
+  equality and the factor-3 band.
+
+Usage: default_report.py --out DIR RESULT_DIR [RESULT_DIR ...]
+"""
+import csv
+import math
+import os
+import statistics
+import sys
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+RMS_BAR = 0.02        # of the diagonal, at 1 s
+STRAIN_BAR = 1.5      # max strain over the reference's
+ENERGY_BAR = 0.15     # |energy / reference's - 1|
+FRAME_MS = 1000.0 / 60.0
+ESTIMATE_BAR = 3.0    # estimate within this factor of the true local error
+
+
+def _read(path):
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def _mark(ok):
+    return "" if ok else " ✗"
+
+
+def default_table(rows):
+    lines = ["| case | RMS / diagonal | max strain / ref | energy / ref | ms per frame (CPU) "
+             "| mean substeps |", "|---|---|---|---|---|---|"]
+    for r in rows:
+        if r["solver"] != "default" or not r["time"] or float(r["time"]) != 1.0:
+            continue
+        rms = float(r["rms_error"])
+        strain = float(r["max_strain"]) / float(r["ref_max_strain"])
+        energy = float(r["energy_ratio"])
+        wall, cpu = float(r["frame_ms_median"]), float(r["cpu_ms_median"])
+        lines.append(
+            f"| {r['case']} | {100 * rms:.2f} %{_mark(rms <= RMS_BAR)} "
+            f"| {strain:.2f}{_mark(strain <= STRAIN_BAR)} "
+            f"| {energy:.3f}{_mark(abs(energy - 1) <= ENERGY_BAR)} "
+            f"| {wall:.1f} ({cpu:.1f}){_mark(wall <= FRAME_MS)} "
+            f"| {float(r['mean_substeps']):.1f} |")
+    return lines
+
+
+def local_table(rows):
+    by_case = defaultdict(list)
+    for r in rows:
+        if r["solver"] == "default" and float(r["true_error"]) > 0:
+            by_case[r["case"]].append(float(r["estimate"]) / float(r["true_error"]))
+    lines = ["| case | frames | estimate / true local error: median | min | max "
+             "| within 3x |", "|---|---|---|---|---|---|"]
+    for case, ratios in by_case.items():
+        inside = sum(1 for q in ratios if 1 / ESTIMATE_BAR <= q <= ESTIMATE_BAR)
+        lines.append(f"| {case} | {len(ratios)} | {statistics.median(ratios):.2f} "
+                     f"| {min(ratios):.2f} | {max(ratios):.2f} | {inside} / {len(ratios)} |")
+    return lines
+
+
+def plot(rows, path):
+    fig, ax = plt.subplots(figsize=(6.5, 5.5))
+    by_case = defaultdict(list)
+    for r in rows:
+        if float(r["true_error"]) > 0 and float(r["estimate"]) > 0:
+            by_case[f"{r['case']} {r['solver']}"].append((float(r["true_error"]), float(r["estimate"])))
+    lo, hi = math.inf, 0.0
+    for n, (name, points) in enumerate(sorted(by_case.items())):
+        xs, ys = zip(*points)
+        ax.loglog(xs, ys, "os^"[n // 10 % 3], ms=4, label=name)  # 10 colours per marker
+        lo, hi = min(lo, *xs, *ys), max(hi, *xs, *ys)
+    if hi > 0:
+        line = [lo / 2, hi * 2]
+        ax.loglog(line, line, "k-", lw=1, label="estimate = truth")
+        ax.loglog(line, [v / ESTIMATE_BAR for v in line], "k:", lw=1, label="factor 3")
+        ax.loglog(line, [v * ESTIMATE_BAR for v in line], "k:", lw=1)
+    ax.set_xlabel("true local error of the frame (m, RMS)")
+    ax.set_ylabel("error estimate of the frame (m)")
+    ax.set_title("Error estimate against the true local error")
+    ax.legend(fontsize=6, loc="upper left")
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
+def main(argv):
+    if len(argv) < 4 or argv[1] != "--out":
+        sys.exit("usage: default_report.py --out DIR RESULT_DIR [RESULT_DIR ...]")
+    out, dirs = argv[2], argv[3:]
+    accuracy, local = [], []
+    for d in dirs:
+        accuracy += _read(os.path.join(d, "accuracy.csv"))
+        local += _read(os.path.join(d, "local_error.csv"))
+    os.makedirs(out, exist_ok=True)
+    text = ["# The scene format's default against the bars", "",
+            "Bars: RMS <= 2 % of the diagonal, max strain <= 1.5x and energy within 15 % of the "
+            "reference's, <= 16.7 ms per frame (wall); ✗ marks a miss.", ""]
+    text += default_table(accuracy)
+    text += ["", "## Error estimate against the true local error", ""]
+    text += local_table(local)
+    with open(os.path.join(out, "default.md"), "w") as f:
+        f.write("\n".join(text) + "\n")
+    plot(local, os.path.join(out, "local_error.png"))
+
+
+if __name__ == "__main__":
+    main(sys.argv)
