@@ -228,8 +228,10 @@ int main(int argc, char** argv) {
   CLI::App* self_set_cmd = app.add_subcommand(
       "self_collision_set", "the randomized self-contact set at 16 to 128 particles a side");
   self_set_cmd->add_option("--out", self_set.out_dir, "output directory")->capture_default_str();
-  self_set_cmd->add_option("--seeds", self_set.seeds, "cases (seeds from 20260500)")
+  self_set_cmd->add_option("--seeds", self_set.seeds, "cases (seeds from --first-seed on)")
       ->capture_default_str()->check(CLI::Range(1, 1000));
+  self_set_cmd->add_option("--first-seed", self_set.first_seed, "the first case's seed")
+      ->capture_default_str();
   self_set_cmd->add_option("--max-resolution", self_set.max_resolution,
                            "particles along the longer side at most")
       ->capture_default_str()->check(CLI::Range(16, 400));
