@@ -159,8 +159,11 @@ int main(int argc, char** argv) {
                               "peer_cloth", "flag", "ball_drop", "curtain", "table_edge",
                               "stiff_flag", "soft_flag"}));
   accuracy_cmd->add_option("--error-tolerances", accuracy.error_tolerances,
-                           "error-controlled configurations: tolerances, m per frame ('' = none)")
+                           "error-controlled configurations: tolerances, m per frame")
       ->delimiter(',')->capture_default_str()->check(CLI::Range(1e-9, 1.0));
+  bool no_error_control = false;
+  accuracy_cmd->add_flag("--no-error-control", no_error_control,
+                         "no error-controlled configurations (as an empty --error-tolerances)");
   accuracy_cmd->add_flag("!--no-default", accuracy.scene_default,
                          "leave out the scene format's default (error control, BDF2)");
   accuracy_cmd->add_flag("--default-only", accuracy.default_only,
@@ -235,6 +238,7 @@ int main(int argc, char** argv) {
     accuracy.scenes_dir = speed.scenes_dir;
     accuracy.untuned_dir = source_dir + "/bench/scenes";
     if (*floor_cmd) runFloor(floor_options);
+    if (no_error_control) accuracy.error_tolerances.clear();
     if (*accuracy_cmd) runAccuracy(accuracy);
     drift.scenes_dir = speed.scenes_dir;
     if (*drift_cmd) runDrift(drift);
