@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The benchmark of docs/benchmark.md in one command (make bench): builds (Release), then
 #   accuracy   every solver x substeps x iterations x scene x grid, error against the true motion
+#   peers      Bullet's implicit deformable solver on the same scenes against the same true
+#              motion (peers.csv; says so and skips when the bench was built without Bullet)
 #   drift      (only when asked) energy of an undamped scene over 10 s per configuration
 #   floor      bandwidth floor and per-iteration cost on the paper's 81 x 81 cloth
 #   speed      every solver x iteration count x scene x grid, error against converged Newton
@@ -12,7 +14,7 @@
 #   default    (only when asked) the scene format's default on every accuracy scene at 32 and
 #              64, its estimate against the true local error (bench/default_report.py)
 # and turns the CSV files into plots and tables (bench/report.py). Results: bench/results/.
-# Usage: bench/run.sh [accuracy|drift|floor|speed|stability|scaling|threads|precision|self_collision|default|report|all] [extra cloth_sim_bench options]
+# Usage: bench/run.sh [accuracy|peers|drift|floor|speed|stability|scaling|threads|precision|self_collision|default|report|all] [extra cloth_sim_bench options]
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../scripts/env.sh"
 what="${1:-all}"
@@ -24,7 +26,7 @@ echo "[bench] $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; load: $(c
 # use both cores inside Newton's factorizations).
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 case "$what" in
-  accuracy|drift|floor|speed|stability|scaling|threads|precision) "$BENCH" "$what" "$@" ;;
+  accuracy|peers|drift|floor|speed|stability|scaling|threads|precision) "$BENCH" "$what" "$@" ;;
   self_collision) bash "$REPO_ROOT/bench/self_collision.sh" "$@" ;;
   default)
     out="$REPO_ROOT/bench/results/default"
@@ -35,13 +37,14 @@ case "$what" in
   report) ;;
   all)
     "$BENCH" accuracy
+    "$BENCH" peers
     "$BENCH" floor
     "$BENCH" speed
     "$BENCH" stability
     "$BENCH" scaling
     bash "$REPO_ROOT/bench/self_collision.sh"
     ;;
-  *) echo "usage: $0 [accuracy|drift|floor|speed|stability|scaling|threads|precision|self_collision|default|report|all] [options]" >&2; exit 1 ;;
+  *) echo "usage: $0 [accuracy|peers|drift|floor|speed|stability|scaling|threads|precision|self_collision|default|report|all] [options]" >&2; exit 1 ;;
 esac
 echo "[bench] load after: $(cut -d' ' -f1-3 /proc/loadavg)"
 /usr/bin/python3 "$REPO_ROOT/bench/report.py" "$REPO_ROOT/bench/results"
