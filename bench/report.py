@@ -41,6 +41,7 @@ STYLE = {
     "explicit_euler": ("tab:purple", "x"),
     "verlet": ("tab:pink", "+"),
     "xpbd": ("black", "s"),
+    "bullet": ("magenta", "h"),
 }
 
 
@@ -306,6 +307,10 @@ def main():
     peer = os.path.join(RESULTS, "peer")
     if os.path.exists(os.path.join(peer, "accuracy.csv")):
         accuracy_report.report_peer(peer, STYLE)
+    # Bullet's implicit solver (bench/run.sh peers --out .../bullet, with accuracy beside it).
+    bullet = os.path.join(RESULTS, "bullet")
+    if os.path.exists(os.path.join(bullet, "peers.csv")):
+        accuracy_report.report_bullet(bullet, STYLE)
     speed, traces = read("speed.csv"), read("traces.csv")
     summary = []
     if speed:

@@ -210,7 +210,7 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::PositiveNumber);
 
   PeersOptions peers;
-  peers.out_dir = source_dir + "/bench/results";
+  peers.out_dir = source_dir + "/bench/results/bullet";
   peers.cache_dir = source_dir + "/bench/cache";
   const std::string bullet = bulletBuild();
   CLI::App* peers_cmd = app.add_subcommand(
