@@ -310,7 +310,7 @@ def bullet_tables(rows, refs, times=(0.25, 0.5, 1.0)):
 
     def blew_up(by_t):
         """A spring stretched past twice its rest length at a sample (the reference's max
-        strain is 0.02-0.07 on these cases): a blown-up run, left out of the budget table."""
+        strain stays below 0.3 on these cases): a blown-up run, left out of the budget table."""
         return any(_num(r["max_strain"]) > 1.0 for r in by_t.values())
 
     out = ["# Bullet's implicit solver side by side\n",

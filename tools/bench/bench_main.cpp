@@ -238,6 +238,8 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(0, 1000000));
   peers_cmd->add_flag("--line-search", peers.line_search,
                       "Newton with Bullet's line search (label +ls)");
+  peers_cmd->add_flag("--clamped-hessian", peers.clamped_hessian,
+                      "diagnostic: the spring Hessian clamped positive semi-definite (label +psd)");
   peers_cmd->add_flag("!--lagrange", peers.projection,
                       "Bullet's Lagrange multiplier mode (the world's default) instead of its "
                       "projection mode (its examples' with the implicit solver)");

@@ -38,8 +38,10 @@ namespace {
 /// type stays BT_MASSSPRING_FORCE: Bullet keeps one force per type.
 class ClothSpringForce : public btDeformableMassSpringForce {
  public:
-  explicit ClothSpringForce(std::vector<btScalar> stiffness)
-      : btDeformableMassSpringForce(0, 0, true), k_(std::move(stiffness)) {}
+  /// @p clamped: a diagnostic, not Bullet's method: the Hessian's (1 - r / l) term clamped at
+  /// 0 (positive semi-definite, as Newton solvers on mass-spring systems commonly project it).
+  ClothSpringForce(std::vector<btScalar> stiffness, bool clamped)
+      : btDeformableMassSpringForce(0, 0, true), k_(std::move(stiffness)), clamped_(clamped) {}
 
   void addScaledDampingForce(btScalar, TVStack&) override {}
   void addScaledDampingForceDifferential(btScalar, const TVStack&, TVStack&) override {}
@@ -72,7 +74,9 @@ class ClothSpringForce : public btDeformableMassSpringForce {
         if (length <= SIMD_EPSILON) continue;
         const btVector3 unit = dir / length;
         const btVector3 dx_diff = dx[id1] - dx[id2];
-        const btScalar k = scale * k_[j], stretch = (length - link.m_rl) / length;
+        const btScalar k = scale * k_[j];
+        btScalar stretch = (length - link.m_rl) / length;
+        if (clamped_ && stretch < 0) stretch = 0;
         btVector3 f = -k * unit.dot(dx_diff) * unit;
         f += k * unit.dot(dx_diff) * stretch * unit;
         f -= k * stretch * dx_diff;
@@ -97,6 +101,7 @@ class ClothSpringForce : public btDeformableMassSpringForce {
 
  private:
   std::vector<btScalar> k_;  ///< N/m, per link (link j = cloth_sim spring j)
+  bool clamped_ = false;
 };
 
 /// Bullet's deformable solver with its Newton and Krylov settings reachable (protected there).
@@ -207,7 +212,7 @@ std::unique_ptr<BulletCloth> buildBullet(const Simulation& sim, const BulletSett
   body.setActivationState(DISABLE_DEACTIVATION);  // a cloth at rest must not fall asleep
   c->world->addSoftBody(&body);
 
-  c->springs = std::make_unique<ClothSpringForce>(std::move(stiffness));
+  c->springs = std::make_unique<ClothSpringForce>(std::move(stiffness), settings.clamped_hessian);
   c->damping = model.damping;
   c->world->addForce(&body, c->springs.get());
   c->gravity = std::make_unique<btDeformableGravityForce>(toBt(model.gravity));
@@ -361,10 +366,12 @@ void runPeers(const PeersOptions& o) {
           settings.krylov_iterations = o.krylov_iterations;
           settings.projection = o.projection;
           settings.line_search = o.line_search;
+          settings.clamped_hessian = o.clamped_hessian;
           const PeerRun run = runBullet(c.config, settings, truth.frames, o.max_frame_ms);
           std::string label =
               newton > 0 ? "bullet/newton" + std::to_string(newton) : std::string("bullet");
           if (o.line_search) label += "+ls";
+          if (o.clamped_hessian) label += "+psd";
           const std::string status = run.stopped ? "too_slow" : run.finite ? "ok" : "diverged";
           std::printf("  %-16s %3d substeps: %8.3f ms per frame (CPU %.3f)", label.c_str(),
                       substeps, median(run.frame_ms), median(run.frame_cpu_ms));

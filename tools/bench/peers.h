@@ -34,6 +34,9 @@ struct PeersOptions {
   bool projection = true;
   /// Newton with Bullet's backtracking line search on its energy (off by default in Bullet).
   bool line_search = false;
+  /// Diagnostic, not Bullet's method: Bullet's spring Hessian with its (1 - r / l) term
+  /// clamped at 0 (label +psd), to test whether its indefiniteness is what blows up.
+  bool clamped_hessian = false;
   std::vector<double> times = {0.25, 0.5, 1.0};
   std::string reference = "auto";  ///< as AccuracyOptions::reference
   int reference_substeps = 32;     ///< as AccuracyOptions::reference_substeps
@@ -64,6 +67,7 @@ struct BulletSettings {
   int krylov_iterations = 0;     ///< 0 = Bullet's default
   bool projection = true;  ///< PeersOptions::projection
   bool line_search = false;  ///< PeersOptions::line_search
+  bool clamped_hessian = false;  ///< PeersOptions::clamped_hessian
 };
 
 /// Builds @p scene's cloth in Bullet (same particles, masses, springs, pins, gravity, damping;
