@@ -399,6 +399,29 @@ int verletSubsteps(const SceneConfig& scene) {
   return substeps;
 }
 
+TrueMotion trueMotion(const SceneConfig& scene, const std::string& case_name,
+                      const std::vector<double>& times, const AccuracyOptions& o) {
+  TrueMotion truth;
+  const double frame = scene.time_step;
+  for (double t : times) truth.frames.push_back(static_cast<int>(std::lround(t / frame)));
+  truth.kind = referenceKind(scene, o);
+  const int substeps = truth.kind == "verlet"
+                           ? std::max(o.reference_substeps, verletSubsteps(scene))
+                           : o.reference_substeps;
+  truth.h = frame / (2 * substeps);
+  const std::vector<Sample> coarse = reference(scene, case_name, substeps, truth.frames, o);
+  const std::vector<Sample> fine = reference(scene, case_name, 2 * substeps, truth.frames, o);
+  truth.diagonal = diagonal(makeSimulation(scene).state().positions);
+  for (std::size_t k = 0; k < fine.size(); ++k) {
+    truth.positions.push_back(fine[k].positions);
+    truth.coarse.push_back(coarse[k].positions);
+    truth.energy.push_back(fine[k].energy);
+    truth.mean_strain.push_back(fine[k].mean_strain);
+    truth.max_strain.push_back(fine[k].max_strain);
+  }
+  return truth;
+}
+
 void runAccuracy(const AccuracyOptions& o) {
   std::filesystem::create_directories(o.out_dir);
   std::ofstream csv(o.out_dir + "/accuracy.csv");
