@@ -8,8 +8,10 @@
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include "cases.h"
+#include "distances.h"
 #include "cloth_sim/core/settings/settings_table.h"
 #include "cloth_sim/core/solvers/registry.h"
 #include "stats.h"
@@ -71,15 +73,7 @@ Sample sampleOf(const Simulation& sim) {
   Sample s;
   s.positions = sim.state().positions;
   s.energy = sim.totalEnergy();
-  const Springs& springs = sim.model().springs;
-  double sum = 0.0;
-  for (std::size_t k = 0; k < springs.size(); ++k) {
-    const double length = (s.positions.col(springs.first[k]) - s.positions.col(springs.second[k])).norm();
-    const double strain = std::abs(length - springs.rest_length[k]) / springs.rest_length[k];
-    sum += strain;
-    s.max_strain = std::max(s.max_strain, strain);
-  }
-  s.mean_strain = springs.size() > 0 ? sum / static_cast<double>(springs.size()) : 0.0;
+  std::tie(s.mean_strain, s.max_strain) = springStrain(sim.model().springs, s.positions);
   return s;
 }
 
@@ -323,16 +317,6 @@ std::vector<Sample> reference(const SceneConfig& scene, const std::string& case_
   return t.samples;
 }
 
-double rms(const Points& a, const Points& b) {
-  return std::sqrt((a - b).colwise().squaredNorm().mean());
-}
-double maxDistance(const Points& a, const Points& b) {
-  return (a - b).colwise().norm().maxCoeff();
-}
-/// |centre of mass of a - that of b| (m), particle masses @p mass.
-double centerOfMassDistance(const Points& a, const Points& b, const Eigen::VectorXd& mass) {
-  return ((a - b) * mass).norm() / mass.sum();
-}
 /// Diagonal of the bounding box of @p x (m): the cloth's size, taken at rest.
 double diagonal(const Points& x) { return (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).norm(); }
 

@@ -9,6 +9,7 @@
 
 #include "accuracy.h"
 #include "cases.h"
+#include "distances.h"
 #include "stats.h"
 
 #ifdef CLOTH_SIM_HAVE_BULLET
@@ -303,28 +304,6 @@ PeerRun runBullet(const SceneConfig&, const BulletSettings&, const std::vector<i
 
 #endif
 
-namespace {
-
-double rms(const Points& a, const Points& b) { return std::sqrt((a - b).colwise().squaredNorm().mean()); }
-double maxDistance(const Points& a, const Points& b) { return (a - b).colwise().norm().maxCoeff(); }
-double centerOfMassDistance(const Points& a, const Points& b, const Eigen::VectorXd& mass) {
-  return ((a - b) * mass).norm() / mass.sum();
-}
-
-/// Mean and max |l - r| / r over @p springs at @p x.
-std::pair<double, double> strain(const Springs& springs, const Points& x) {
-  double sum = 0.0, worst = 0.0;
-  for (std::size_t k = 0; k < springs.size(); ++k) {
-    const double length = (x.col(springs.first[k]) - x.col(springs.second[k])).norm();
-    const double e = std::abs(length - springs.rest_length[k]) / springs.rest_length[k];
-    sum += e;
-    worst = std::max(worst, e);
-  }
-  return {springs.size() > 0 ? sum / static_cast<double>(springs.size()) : 0.0, worst};
-}
-
-}  // namespace
-
 void runPeers(const PeersOptions& o) {
   const std::string build = bulletBuild();
   if (build.empty()) {
@@ -383,7 +362,7 @@ void runPeers(const PeersOptions& o) {
             snap.state.positions = run.positions[k];
             snap.state.velocities = run.velocities[k];
             probe.restore(snap);
-            const auto [mean_strain, max_strain] = strain(probe.model().springs, run.positions[k]);
+            const auto [mean_strain, max_strain] = springStrain(probe.model().springs, run.positions[k]);
             csv << c.name << ',' << label << ',' << substeps << ',' << run.newton_iterations << ','
                 << o.times[k] << ',' << error << ','
                 << maxDistance(run.positions[k], truth.positions[k]) / truth.diagonal << ','
