@@ -5,7 +5,7 @@
 SHELL := /bin/bash
 SCENE ?= hanging
 
-.PHONY: run test build deps clean bench stability
+.PHONY: run test build deps deps-bench clean bench stability
 
 run: deps
 	@bash scripts/build.sh
@@ -17,7 +17,7 @@ test: deps
 build: deps
 	@bash scripts/build.sh
 
-bench: deps
+bench: deps-bench
 	@bash bench/run.sh all
 
 stability: deps
@@ -25,6 +25,9 @@ stability: deps
 
 deps:
 	@bash scripts/install_deps.sh
+
+deps-bench:
+	@bash scripts/install_deps.sh bench
 
 clean:
 	rm -rf .catkin_ws

@@ -300,3 +300,69 @@ def report_peer(results, style):
          unit="RMS error at 0.5 s (mm)", cpu=True)
     with open(os.path.join(results, "peer.md"), "w") as f:
         f.write(peer_tables(rows, refs, drift))
+
+
+def bullet_tables(rows, refs, times=(0.25, 0.5, 1.0)):
+    """Markdown: per case, the best RMS error (% of the diagonal) of cloth_sim's configurations
+    and of Bullet's within 1, 4, 16 and 64 CPU ms per frame, and Bullet's every run."""
+    configs = _configs(rows)
+    floor = {(r["case"], _num(r["time"])): _num(r["floor_rms"]) for r in refs}
+
+    def blew_up(by_t):
+        """A spring stretched past twice its rest length at a sample (the reference's max
+        strain stays below 0.3 on these cases): a blown-up run, left out of the budget table."""
+        return any(_num(r["max_strain"]) > 1.0 for r in by_t.values())
+
+    out = ["# Bullet's implicit solver side by side\n",
+           "RMS position error over the cloth's diagonal against the accuracy benchmark's "
+           "reference; ms per 1/60 s frame: this thread's CPU time, median (the wall time is in "
+           "the CSV files). cloth_sim: accuracy.csv, Bullet: peers.csv, same session. Best within "
+           "a budget: the configuration with the lowest RMS at 1 s among those whose median CPU "
+           "ms per frame fits and that did not blow up (a spring past 100 % strain at a sample; "
+           "marked \"blew up\" below).\n"]
+    for case, by_label in configs.items():
+        out.append(f"## {case}\n")
+        out.append("| within CPU ms per frame | cloth_sim: RMS at 1 s | configuration | "
+                   "Bullet: RMS at 1 s | configuration |")
+        out.append("|---|---|---|---|---|")
+        for budget in PEER_BUDGETS_MS:
+            cells = []
+            for bullet in (False, True):
+                fits = [(_num(b[1.0]["rms_error"]), n, _ms(b[1.0])) for n, b in by_label.items()
+                        if 1.0 in b and b[1.0]["solver"].startswith("bullet") == bullet
+                        and _ms(b[1.0]) <= budget and not blew_up(b)]
+                best = min(fits) if fits else None
+                cells += [_pct(best[0]) if best else "-",
+                          f"{best[1]} ({best[2]:.3g} ms)" if best else "-"]
+            out.append(f"| {budget:g} | " + " | ".join(cells) + " |")
+        out.append("| floor (reference h vs h/2) | " + _pct(floor.get((case, 1.0), float("nan")))
+                   + " | - | - | - |\n")
+        out.append("Bullet, every run:\n")
+        out.append("| configuration | CPU ms per frame (p10-p90) | "
+                   + " | ".join(f"RMS at {t:g} s" for t in times)
+                   + " | energy / ref at 1 s | max strain at 1 s (ref) |")
+        out.append("|---|---|" + "---|" * len(times) + "---|---|")
+        for name, b in sorted(by_label.items(), key=lambda kv: (kv[0].split()[0],
+                                                                int(kv[0].split()[1][1:]))):
+            first = b[min(b)]
+            if not first["solver"].startswith("bullet"):
+                continue
+            last = b.get(1.0)
+            if blew_up(b):
+                name += " (blew up)"
+            out.append(f"| {name} | {_ms(first):.3g} ({_ms(first, 'p10'):.3g}-{_ms(first, 'p90'):.3g}) | "
+                       + " | ".join(_pct(_num(b[t]["rms_error"])) if t in b else "-" for t in times)
+                       + (f" | {_num(last['energy_ratio']):.3g} | {_num(last['max_strain']):.3g} "
+                          f"({_num(last['ref_max_strain']):.3g}) |" if last else " | - | - |"))
+        out.append("")
+    return "\n".join(out) + "\n"
+
+
+def report_bullet(results, style):
+    """bullet.md and bullet.png (RMS at 1 s against CPU ms per frame) of the run in @p results:
+    cloth_sim's accuracy.csv and Bullet's peers.csv (cloth_sim_bench peers) side by side."""
+    rows = _read(os.path.join(results, "accuracy.csv")) + _read(os.path.join(results, "peers.csv"))
+    refs = _read(os.path.join(results, "accuracy_reference.csv"))
+    plot(rows, os.path.join(results, "bullet.png"), style, at=1.0, cpu=True)
+    with open(os.path.join(results, "bullet.md"), "w") as f:
+        f.write(bullet_tables(rows, refs))

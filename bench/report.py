@@ -41,6 +41,7 @@ STYLE = {
     "explicit_euler": ("tab:purple", "x"),
     "verlet": ("tab:pink", "+"),
     "xpbd": ("black", "s"),
+    "bullet": ("magenta", "h"),
 }
 
 
@@ -306,6 +307,12 @@ def main():
     peer = os.path.join(RESULTS, "peer")
     if os.path.exists(os.path.join(peer, "accuracy.csv")):
         accuracy_report.report_peer(peer, STYLE)
+    # Bullet's implicit solver (bench/run.sh peers: bench/results/bullet, with cloth_sim's
+    # accuracy sweep of the same cases beside it; bullet64: the same at 64 x 64).
+    for name in ("bullet", "bullet64"):
+        bullet = os.path.join(RESULTS, name)
+        if os.path.exists(os.path.join(bullet, "peers.csv")):
+            accuracy_report.report_bullet(bullet, STYLE)
     speed, traces = read("speed.csv"), read("traces.csv")
     summary = []
     if speed:

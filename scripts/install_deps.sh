@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages cloth_sim needs (ROS 1 from Debian's own archive, no ROS apt repo).
 # Idempotent: does nothing when everything is already installed. Uses sudo only when not root.
+# Usage: install_deps.sh [bench]; "bench" adds what only the benchmark uses (make bench): Bullet,
+# the peer of `cloth_sim_bench peers` (optional at build time: make run and make test do without).
 set -euo pipefail
 
 PACKAGES=(
@@ -32,6 +34,10 @@ PACKAGES=(
   # headless RViz, screenshots, benchmark plot
   xvfb xauth imagemagick x11-utils mesa-utils python3-matplotlib
 )
+
+if [ "${1:-}" = bench ]; then
+  PACKAGES+=(libbullet-dev)  # Bullet's implicit deformable solver (docs/benchmark.md)
+fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -8,8 +8,10 @@
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include "cases.h"
+#include "distances.h"
 #include "cloth_sim/core/settings/settings_table.h"
 #include "cloth_sim/core/solvers/registry.h"
 #include "stats.h"
@@ -71,15 +73,7 @@ Sample sampleOf(const Simulation& sim) {
   Sample s;
   s.positions = sim.state().positions;
   s.energy = sim.totalEnergy();
-  const Springs& springs = sim.model().springs;
-  double sum = 0.0;
-  for (std::size_t k = 0; k < springs.size(); ++k) {
-    const double length = (s.positions.col(springs.first[k]) - s.positions.col(springs.second[k])).norm();
-    const double strain = std::abs(length - springs.rest_length[k]) / springs.rest_length[k];
-    sum += strain;
-    s.max_strain = std::max(s.max_strain, strain);
-  }
-  s.mean_strain = springs.size() > 0 ? sum / static_cast<double>(springs.size()) : 0.0;
+  std::tie(s.mean_strain, s.max_strain) = springStrain(sim.model().springs, s.positions);
   return s;
 }
 
@@ -323,16 +317,6 @@ std::vector<Sample> reference(const SceneConfig& scene, const std::string& case_
   return t.samples;
 }
 
-double rms(const Points& a, const Points& b) {
-  return std::sqrt((a - b).colwise().squaredNorm().mean());
-}
-double maxDistance(const Points& a, const Points& b) {
-  return (a - b).colwise().norm().maxCoeff();
-}
-/// |centre of mass of a - that of b| (m), particle masses @p mass.
-double centerOfMassDistance(const Points& a, const Points& b, const Eigen::VectorXd& mass) {
-  return ((a - b) * mass).norm() / mass.sum();
-}
 /// Diagonal of the bounding box of @p x (m): the cloth's size, taken at rest.
 double diagonal(const Points& x) { return (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).norm(); }
 
@@ -399,6 +383,29 @@ int verletSubsteps(const SceneConfig& scene) {
   return substeps;
 }
 
+TrueMotion trueMotion(const SceneConfig& scene, const std::string& case_name,
+                      const std::vector<double>& times, const AccuracyOptions& o) {
+  TrueMotion truth;
+  const double frame = scene.time_step;
+  for (double t : times) truth.frames.push_back(static_cast<int>(std::lround(t / frame)));
+  truth.kind = referenceKind(scene, o);
+  const int substeps = truth.kind == "verlet"
+                           ? std::max(o.reference_substeps, verletSubsteps(scene))
+                           : o.reference_substeps;
+  truth.h = frame / (2 * substeps);
+  const std::vector<Sample> coarse = reference(scene, case_name, substeps, truth.frames, o);
+  const std::vector<Sample> fine = reference(scene, case_name, 2 * substeps, truth.frames, o);
+  truth.diagonal = diagonal(makeSimulation(scene).state().positions);
+  for (std::size_t k = 0; k < fine.size(); ++k) {
+    truth.positions.push_back(fine[k].positions);
+    truth.coarse.push_back(coarse[k].positions);
+    truth.energy.push_back(fine[k].energy);
+    truth.mean_strain.push_back(fine[k].mean_strain);
+    truth.max_strain.push_back(fine[k].max_strain);
+  }
+  return truth;
+}
+
 void runAccuracy(const AccuracyOptions& o) {
   std::filesystem::create_directories(o.out_dir);
   std::ofstream csv(o.out_dir + "/accuracy.csv");
@@ -423,37 +430,27 @@ void runAccuracy(const AccuracyOptions& o) {
       BenchCase c = mesh ? BenchCase{scene_name + "-mesh", scene_name, 0, false, loadSceneFile(file)}
                          : makeCase(dir, scene_name, grid);
       const double frame = c.config.time_step;
-      std::vector<int> frames;
-      for (double t : o.times) frames.push_back(static_cast<int>(std::lround(t / frame)));
-
-      const std::string ref_kind = referenceKind(c.config, o);
-      const int ref_substeps = ref_kind == "verlet"
-                                   ? std::max(o.reference_substeps, verletSubsteps(c.config))
-                                   : o.reference_substeps;
-      progress(0, 2, c.name + " reference");
-      const std::vector<Sample> coarse =
-          reference(c.config, c.name, ref_substeps, frames, o);
-      progress(1, 2, c.name + " reference (h / 2)");
-      const std::vector<Sample> ref =
-          reference(c.config, c.name, 2 * ref_substeps, frames, o);
-      progress(2, 2, c.name + " reference done");
-      const Simulation at_rest = makeSimulation(c.config);
-      const double size = diagonal(at_rest.state().positions);
-      const Eigen::VectorXd& mass = at_rest.model().mass;
+      progress(0, 1, c.name + " reference (h and h / 2)");
+      const TrueMotion truth = trueMotion(c.config, c.name, o.times, o);
+      progress(1, 1, c.name + " reference done");
+      const std::vector<int>& frames = truth.frames;
+      const std::vector<Points>& ref = truth.positions;
+      const double size = truth.diagonal;
+      const Eigen::VectorXd mass = makeSimulation(c.config).model().mass;
       for (std::size_t k = 0; k < frames.size(); ++k) {
-        ref_csv << c.name << ',' << ref[k].positions.cols() << ',' << size << ',' << ref_kind
-                << ','                 << frame / (2 * ref_substeps) << ',' << o.times[k] << ','
-                << rms(coarse[k].positions, ref[k].positions) / size << ','
-                << maxDistance(coarse[k].positions, ref[k].positions) / size << ','
-                << centerOfMassDistance(coarse[k].positions, ref[k].positions, mass) / size << ','
-                << ref[k].energy << ',' << ref[k].mean_strain << ',' << ref[k].max_strain << '\n';
+        ref_csv << c.name << ',' << ref[k].cols() << ',' << size << ',' << truth.kind << ','
+                << truth.h << ',' << o.times[k] << ','
+                << rms(truth.coarse[k], ref[k]) / size << ','
+                << maxDistance(truth.coarse[k], ref[k]) / size << ','
+                << centerOfMassDistance(truth.coarse[k], ref[k], mass) / size << ','
+                << truth.energy[k] << ',' << truth.mean_strain[k] << ',' << truth.max_strain[k]
+                << '\n';
       }
       std::printf("%s: %ld particles, diagonal %.3f m, reference %s h = 1/%.0f s; its error "
                   "(distance to h x 2) at t = %g s: %.3g %% RMS\n",
-                  c.name.c_str(), static_cast<long>(ref.front().positions.cols()), size,
-                  ref_kind.c_str(),
-                  2 * ref_substeps / frame, o.times.front(),
-                  100.0 * rms(coarse.front().positions, ref.front().positions) / size);
+                  c.name.c_str(), static_cast<long>(ref.front().cols()), size,
+                  truth.kind.c_str(), 1.0 / truth.h, o.times.front(),
+                  100.0 * rms(truth.coarse.front(), ref.front()) / size);
 
       LocalErrorProbe probe{c.config, {}, o.local_error_substeps};
       const int last = static_cast<int>(std::lround(o.local_error_until / frame));
@@ -481,11 +478,11 @@ void runAccuracy(const AccuracyOptions& o) {
           const Sample& s = t.samples[k];
           csv << c.name << ',' << cfg.name() << ',' << cfg.substeps << ','
               << (cfg.tolerance > 0.0 ? 0 : cfg.iterations) << ',' << o.times[k] << ','
-              << rms(s.positions, ref[k].positions) / size << ','
-              << maxDistance(s.positions, ref[k].positions) / size << ','
-              << centerOfMassDistance(s.positions, ref[k].positions, mass) / size << ','
-              << s.energy / ref[k].energy << ',' << s.mean_strain << ',' << s.max_strain << ','
-              << ref[k].mean_strain << ',' << ref[k].max_strain << ',' << median(t.frame_ms)
+              << rms(s.positions, ref[k]) / size << ','
+              << maxDistance(s.positions, ref[k]) / size << ','
+              << centerOfMassDistance(s.positions, ref[k], mass) / size << ','
+              << s.energy / truth.energy[k] << ',' << s.mean_strain << ',' << s.max_strain << ','
+              << truth.mean_strain[k] << ',' << truth.max_strain[k] << ',' << median(t.frame_ms)
               << ',' << quantile(t.frame_ms, 0.1) << ',' << quantile(t.frame_ms, 0.9) << ','
               << t.rollbacks << ',' << status << ',' << median(t.frame_cpu_ms) << ','
               << quantile(t.frame_cpu_ms, 0.1) << ',' << quantile(t.frame_cpu_ms, 0.9) << ','

@@ -81,6 +81,25 @@ struct AccuracyOptions {
 /// to a power of two (w_max from Gershgorin on M^-1 K at rest): the "verlet" reference's step.
 int verletSubsteps(const SceneConfig& scene);
 
+/// The true motion of one case at fixed times, as runAccuracy computes it (and caches it in
+/// AccuracyOptions::cache_dir): the reference run at h and at h / 2 (see
+/// AccuracyOptions::reference). Other benchmarks (cloth_sim_bench peers) measure against it.
+struct TrueMotion {
+  std::string kind;                ///< "verlet" or "implicit"
+  double h = 0.0;                  ///< s, the finer run's step
+  double diagonal = 0.0;           ///< m, of the cloth's bounding box at rest (the error scale)
+  std::vector<int> frames;         ///< the sample frames (times / frame, rounded)
+  std::vector<Points> positions;   ///< the finer run (h) at each sample frame: the truth
+  std::vector<Points> coarse;      ///< the run at 2 h: its distance to the truth is the floor
+  std::vector<double> energy;      ///< J, Simulation::totalEnergy of the finer run
+  std::vector<double> mean_strain; ///< mean |l - r| / r over the springs, finer run
+  std::vector<double> max_strain;
+};
+
+/// The true motion of @p scene (case name @p case_name, the cache's key) at @p times (s).
+TrueMotion trueMotion(const SceneConfig& scene, const std::string& case_name,
+                      const std::vector<double>& times, const AccuracyOptions& options);
+
 /// Runs the sweep; writes accuracy.csv and accuracy_reference.csv into out_dir and prints a
 /// progress bar and one line per configuration.
 void runAccuracy(const AccuracyOptions& options);

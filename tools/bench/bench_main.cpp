@@ -11,6 +11,7 @@
 #include "cloth_sim/core/solvers/registry.h"
 #include "drift.h"
 #include "floor.h"
+#include "peers.h"
 #include "precision.h"
 #include "scaling.h"
 #include "self_collision_set.h"
@@ -160,8 +161,11 @@ int main(int argc, char** argv) {
                               "peer_cloth", "flag", "ball_drop", "curtain", "table_edge",
                               "stiff_flag", "soft_flag"}));
   accuracy_cmd->add_option("--error-tolerances", accuracy.error_tolerances,
-                           "error-controlled configurations: tolerances, m per frame ('' = none)")
+                           "error-controlled configurations: tolerances, m per frame")
       ->delimiter(',')->capture_default_str()->check(CLI::Range(1e-9, 1.0));
+  bool no_error_control = false;
+  accuracy_cmd->add_flag("--no-error-control", no_error_control,
+                         "no error-controlled configurations (as an empty --error-tolerances)");
   accuracy_cmd->add_flag("!--no-default", accuracy.scene_default,
                          "leave out the scene format's default (error control, BDF2)");
   accuracy_cmd->add_flag("--default-only", accuracy.default_only,
@@ -209,6 +213,51 @@ int main(int argc, char** argv) {
                            "stop a configuration slower than this per frame")
       ->capture_default_str()->check(CLI::PositiveNumber);
 
+  PeersOptions peers;
+  peers.out_dir = source_dir + "/bench/results/bullet";
+  peers.cache_dir = source_dir + "/bench/cache";
+  const std::string bullet = bulletBuild();
+  CLI::App* peers_cmd = app.add_subcommand(
+      "peers", "Bullet's implicit deformable solver on the accuracy scenes, error against the same "
+               "true motion against ms per frame (" +
+                   (bullet.empty() ? std::string("Bullet is absent from this build") : bullet) + ")");
+  peers_cmd->add_option("--out", peers.out_dir, "output directory")->capture_default_str();
+  peers_cmd->add_option("--cache", peers.cache_dir, "reference cache ('' = none)")
+      ->capture_default_str();
+  peers_cmd->add_option("--scenes", peers.scenes, "scenes (no colliders)")->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::IsMember({"hanging", "peer_cloth", "flag", "stiff_flag", "soft_flag"}));
+  peers_cmd->add_option("--grids", peers.grids, "grid sizes (rows = cols)")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(4, 400));
+  peers_cmd->add_option("--substeps", peers.substeps, "Bullet steps per frame")->delimiter(',')
+      ->capture_default_str()->check(CLI::Range(1, 10000));
+  peers_cmd->add_option("--newton-iterations", peers.newton_iterations,
+                        "Newton iterations per step (0 = Bullet's default)")
+      ->delimiter(',')->capture_default_str()->check(CLI::Range(0, 10000));
+  peers_cmd->add_option("--newton-tolerance", peers.newton_tolerance,
+                        "Newton's residual norm test, kg m/s (0 = Bullet's default)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  peers_cmd->add_option("--krylov-iterations", peers.krylov_iterations,
+                        "cap of each linear solve (0 = Bullet's default)")
+      ->capture_default_str()->check(CLI::Range(0, 1000000));
+  peers_cmd->add_flag("--line-search", peers.line_search,
+                      "Newton with Bullet's line search (label +ls)");
+  peers_cmd->add_flag("--clamped-hessian", peers.clamped_hessian,
+                      "diagnostic: the spring Hessian clamped positive semi-definite (label +psd)");
+  peers_cmd->add_flag("!--lagrange", peers.projection,
+                      "Bullet's Lagrange multiplier mode (the world's default) instead of its "
+                      "projection mode (its examples' with the implicit solver)");
+  peers_cmd->add_option("--times", peers.times, "sample times, s")->delimiter(',')
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  peers_cmd->add_option("--reference", peers.reference, "reference integrator (as accuracy's)")
+      ->capture_default_str()->check(CLI::IsMember({"auto", "implicit", "verlet"}));
+  peers_cmd->add_option("--reference-substeps", peers.reference_substeps,
+                        "as accuracy's --reference-substeps")
+      ->capture_default_str()->check(CLI::Range(1, 10000));
+  peers_cmd->add_option("--max-frame-ms", peers.max_frame_ms,
+                        "stop a configuration slower than this per frame (CPU)")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+
   DriftOptions drift;
   drift.out_dir = source_dir + "/bench/results";
   CLI::App* drift_cmd = app.add_subcommand(
@@ -251,7 +300,11 @@ int main(int argc, char** argv) {
     accuracy.scenes_dir = speed.scenes_dir;
     accuracy.untuned_dir = source_dir + "/bench/scenes";
     if (*floor_cmd) runFloor(floor_options);
+    if (no_error_control) accuracy.error_tolerances.clear();
     if (*accuracy_cmd) runAccuracy(accuracy);
+    peers.scenes_dir = speed.scenes_dir;
+    peers.untuned_dir = accuracy.untuned_dir;
+    if (*peers_cmd) runPeers(peers);
     drift.scenes_dir = speed.scenes_dir;
     if (*drift_cmd) runDrift(drift);
     if (*scaling_cmd) runScaling(scaling);

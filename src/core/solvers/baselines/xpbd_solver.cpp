@@ -1,8 +1,11 @@
 #include "cloth_sim/core/solvers/baselines/xpbd_solver.h"
 
 #include <cmath>
+#include <cstddef>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "cloth_sim/core/solvers/implicit_euler_problem.h"
 
@@ -14,15 +17,42 @@ void refuse(const std::string& field, const std::string& value, const std::strin
   throw std::invalid_argument(field + " = " + value + " is not supported by xpbd (" + why + ")");
 }
 
+/// The springs of @p springs grouped by colour, as PositionBasedDynamics groups its
+/// constraints (SimulationModel::initConstraintGroups): each spring, in model order, joins the
+/// first colour none of whose springs touches one of its particles, else opens a new one.
+/// Returns the spring indices colour after colour (model order within a colour); @p colours
+/// gets their number.
+std::vector<int> colourOrder(const Springs& springs, int particles, int& colours) {
+  std::vector<std::vector<int>> groups;
+  std::vector<std::vector<char>> used;  // used[g][i]: particle i is in colour g
+  for (std::size_t s = 0; s < springs.size(); ++s) {
+    const int i = springs.first[s], j = springs.second[s];
+    std::size_t g = 0;
+    while (g < groups.size() && (used[g][i] || used[g][j])) ++g;
+    if (g == groups.size()) {
+      groups.emplace_back();
+      used.emplace_back(static_cast<std::size_t>(particles), 0);
+    }
+    groups[g].push_back(static_cast<int>(s));
+    used[g][i] = used[g][j] = 1;
+  }
+  std::vector<int> order;
+  order.reserve(springs.size());
+  for (const std::vector<int>& group : groups) order.insert(order.end(), group.begin(), group.end());
+  colours = static_cast<int>(groups.size());
+  return order;
+}
+
 }  // namespace
 
 void XpbdSolver::prepare(const SolverInput& in) {
   const Model& model = in.model;
   const double h = in.h;
-  if (in.revision == revision_ && h == h_ && particles_ == static_cast<std::size_t>(model.particleCount()) &&
-      springs_ == model.springs.size()) {
-    return;
-  }
+  const bool same_model = in.revision == revision_ &&
+                          particles_ == static_cast<std::size_t>(model.particleCount()) &&
+                          springs_ == model.springs.size();
+  if (same_model && h == h_) return;
+  if (!same_model) order_ = colourOrder(model.springs, model.particleCount(), colours_);
   revision_ = in.revision;
   h_ = h;
   particles_ = static_cast<std::size_t>(model.particleCount());
@@ -91,7 +121,7 @@ SolveResult XpbdSolver::step(const SolverInput& in, const SolverSettings& settin
       cut = true;
       break;
     }
-    for (std::size_t s = 0; s < springs_; ++s) {
+    for (const int s : order_) {  // colour by colour (colourOrder)
       const double alpha = alpha_tilde_[s];
       const int i = first[s], j = second[s];
       const double wsum = w[i] + w[j];
