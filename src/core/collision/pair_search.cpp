@@ -67,6 +67,27 @@ PairSearch::PairSearch(const SurfaceTopology& topology, const Points& rest) {
   build(topology, 0, n, centroids);
   slot_of_.resize(n);
   for (int k = 0; k < n; ++k) slot_of_[order_[k]] = k;
+  // Each leaf's ring: the triangles outside it that share a vertex with it.
+  std::vector<std::vector<int>> around(rest.cols());
+  for (int t = 0; t < n; ++t) {
+    for (int k = 0; k < 3; ++k) around[tri(k, t)].push_back(t);
+  }
+  ring_start_.assign(nodes_.size() + 1, 0);
+  for (std::size_t k = 0; k < nodes_.size(); ++k) {
+    const Node& node = nodes_[k];
+    std::vector<int> ring;
+    for (int j = node.first; j < node.first + node.count; ++j) {
+      for (int a = 0; a < 3; ++a) {
+        for (const int r : around[tri(a, order_[j])]) {
+          if (slot_of_[r] < node.first || slot_of_[r] >= node.first + node.count) ring.push_back(r);
+        }
+      }
+    }
+    std::sort(ring.begin(), ring.end());
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    ring_.insert(ring_.end(), ring.begin(), ring.end());
+    ring_start_[k + 1] = static_cast<int>(ring_.size());
+  }
   owner_slot_.assign(rest.cols(), -1);
   for (int t = 0; t < n; ++t) {
     for (const int* v = topology.ownedVerticesBegin(t); v != topology.ownedVerticesEnd(t); ++v) {
@@ -139,12 +160,25 @@ void PairSearch::refit(const SurfaceTopology& topology, const Points& start, con
   tight_box_.resize(order_.size());
   vertex_nodes_.resize(nodes_.size());
   owned_box_.resize(order_.size());
+  if (cull_flat_) {  // the normals serve only to skip flat patches
+    triangle_normals_.resize(order_.size());
+    for (int t = 0; t < static_cast<int>(order_.size()); ++t) {
+      const int a = tri(0, t), b = tri(1, t), c = tri(2, t);
+      const Vec3 e1s = start.col(b) - start.col(a), e2s = start.col(c) - start.col(a);
+      const Vec3 e1e = end.col(b) - end.col(a), e2e = end.col(c) - end.col(a);
+      Eigen::AlignedBox3d normals;
+      extendUnit(normals, e1s.cross(e2s));
+      extendUnit(normals, e1e.cross(e2e));
+      extendUnit(normals, e1s.cross(e2e) + e1e.cross(e2s));
+      triangle_normals_[t] = normals;
+    }
+  }
   for (int k = static_cast<int>(nodes_.size()) - 1; k >= 0; --k) {
     const Node& node = nodes_[k];
     Eigen::AlignedBox3d box, normals, vertices;
     if (node.count > 0) {
       for (int j = node.first; j < node.first + node.count; ++j) {
-        const int t = order_[j], a = tri(0, t), b = tri(1, t), c = tri(2, t);
+        const int t = order_[j];
         tight_box_[j] = FloatBox::outside(triangle_box_[t]);
         box.extend(triangle_box_[t]);
         Eigen::AlignedBox3d owned;
@@ -154,12 +188,14 @@ void PairSearch::refit(const SurfaceTopology& topology, const Points& start, con
         }
         owned_box_[j] = FloatBox::outside(owned);
         vertices.extend(owned);
-        if (!cull_flat_) continue;  // the normals serve only to skip flat patches
-        const Vec3 e1s = start.col(b) - start.col(a), e2s = start.col(c) - start.col(a);
-        const Vec3 e1e = end.col(b) - end.col(a), e2e = end.col(c) - end.col(a);
-        extendUnit(normals, e1s.cross(e2s));
-        extendUnit(normals, e1e.cross(e2e));
-        extendUnit(normals, e1s.cross(e2e) + e1e.cross(e2s));
+        if (cull_flat_) normals.extend(triangle_normals_[t]);
+      }
+      // The leaf's ring too: a triangle folded over just outside the leaf lets two of its
+      // triangles that share only a vertex lie on top of each other with their own normals up.
+      if (cull_flat_) {
+        for (int r = ring_start_[k]; r < ring_start_[k + 1]; ++r) {
+          normals.extend(triangle_normals_[ring_[r]]);
+        }
       }
     } else {
       box = Eigen::AlignedBox3d(Vec3(box_[node.left].lo[0], box_[node.left].lo[1], box_[node.left].lo[2]),

@@ -33,7 +33,12 @@ struct PairCandidate {
 /// grown by half the edge reach; a node's normal box holds its triangles' unit normals over the
 /// substep (the normal of a triangle moving linearly is (1 - s)^2 A + 2 s (1 - s) B + s^2 C,
 /// s in [0, 1], a positive combination of the start normal A, the end normal C and
-/// B = (e1(0) x e2(1) + e1(1) x e2(0)) / 2, so A, B and C bound it). A node in one piece whose
+/// B = (e1(0) x e2(1) + e1(1) x e2(0)) / 2, so A, B and C bound it). A leaf's normal box holds
+/// those of its ring too, the triangles outside it that share a vertex with it: the leaf's own
+/// triangles are joined at vertices, and a triangle folded over between two of them (outside
+/// the leaf) lets them lie on top of each other with their own normals up (a tree leaf of two
+/// triangles sharing a vertex let a particle through the other one unseen: the pin jump of the
+/// untangling test at 32 x 32 ended crossed so). A node in one piece whose
 /// normals stay within 60 degrees of one direction is flat: it cannot touch itself (Volino and
 /// Magnenat-Thalmann 1994, "Efficient self-collision detection on smoothly discretized surface
 /// animations using geometrical shape regularity"; Provot 1997 for the motion), so its pairs are
@@ -121,6 +126,10 @@ class PairSearch {
   std::vector<float> size_;               ///< each node box's largest side (m)
   std::vector<Eigen::AlignedBox3d> normals_;
   std::vector<char> flat_, mark_;
+  /// CSR by node: a leaf's ring, the triangles outside it that share a vertex with it (empty for
+  /// an inner node, whose normals are its leaves').
+  std::vector<int> ring_start_, ring_;
+  std::vector<Eigen::AlignedBox3d> triangle_normals_;  ///< each triangle's over the substep
   /// Whether two nodes share a vertex (key: the lower index times the node count plus the
   /// higher), filled as flatTogether asks.
   std::unordered_map<std::uint64_t, bool> adjacent_;
