@@ -83,6 +83,19 @@ DiagnosticsReport diagnosticsReport(const DiagnosticsInput& in) {
     warn("grasp frame stopped updating, held at its last pose: " + frames);
     add("stale grasp frames", frames);
   }
+  if (!in.lagging_grasps.empty()) {
+    std::string grasps;
+    for (const auto& [id, lag] : in.lagging_grasps) {
+      char text[80];
+      std::snprintf(text, sizeof text, "grasp %d by %.3f m", id, lag);
+      grasps += (grasps.empty() ? "" : ", ") + std::string(text);
+    }
+    char speed[80];
+    std::snprintf(speed, sizeof speed, "%.3f m/s", in.pin_speed);
+    warn("grasp frame faster than the pin speed limit (" + std::string(speed) +
+         "), held behind it: " + grasps);
+    add("grasps behind their frame", grasps);
+  }
   return r;
 }
 

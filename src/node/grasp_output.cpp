@@ -23,6 +23,7 @@ GraspInfo toGraspInfo(const Grasp& grasp, const GraspFrames::Tracked& tracked) {
   info.offset = toVector3Msg(tracked.offset);
   info.vertices = grasp.vertices;
   info.pose = tf2::toMsg(Eigen::Isometry3d(grasp.pose));
+  info.lag = grasp.lag;
   info.wrench = wrenchInGraspFrame(grasp, tracked.offset);
   info.frame_stale = tracked.stale;
   return info;

@@ -1,5 +1,6 @@
 // The "simulation step" status of /diagnostics from the monitor's numbers: level, message,
-// key-values, stale grasp frames merged in; the real-time factor window. No master.
+// key-values, stale grasp frames and grasps behind their frame merged in; the real-time factor
+// window. No master.
 #include <string>
 
 #include <gtest/gtest.h>
@@ -151,6 +152,23 @@ TEST(DiagnosticsReport, AStaleGraspFrameWarnsAndIsMergedIntoTheSummary) {
                            "left_hand");
   in.window.resets = 1;  // an error stays an error
   EXPECT_EQ(diagnosticsReport(in).level, Health::kError);
+}
+
+TEST(DiagnosticsReport, AGraspBehindItsFrameWarnsWithItsLag) {
+  DiagnosticsInput in = healthy();
+  in.grasps = 2;
+  in.pin_speed = 2.0;
+  in.lagging_grasps = {{0, 0.9667}, {3, 0.0125}};
+  DiagnosticsReport r = diagnosticsReport(in);
+  EXPECT_EQ(r.level, Health::kWarn);
+  EXPECT_EQ(r.message, "grasp frame faster than the pin speed limit (2.000 m/s), held behind it: "
+                       "grasp 0 by 0.967 m, grasp 3 by 0.013 m");
+  EXPECT_EQ(r.values.back().first, "grasps behind their frame");
+  EXPECT_EQ(r.values.back().second, "grasp 0 by 0.967 m, grasp 3 by 0.013 m");
+  in.lagging_grasps.clear();  // caught up
+  r = diagnosticsReport(in);
+  EXPECT_EQ(r.level, Health::kOk);
+  EXPECT_EQ(valueOf(r, "grasps behind their frame"), "(missing)");
 }
 
 TEST(RealTimeWindow, SimulatedOverWallTimeThenANewWindow) {

@@ -41,9 +41,12 @@ TEST(GraspOutput, TorqueIsAboutTheTfFrameOriginNotTheOffsetPoint) {
   EXPECT_NEAR(w.torque.z, 0.0, 1e-12);
 }
 
-TEST(GraspOutput, InfoCarriesFrameOffsetVerticesPoseAndStaleness) {
+TEST(GraspOutput, InfoCarriesFrameOffsetVerticesPoseLagAndStaleness) {
   GraspFrames::Tracked tracked{"gripper", Vec3(0, 0, 0.1), Pose::Identity(), true};
-  const GraspInfo info = toGraspInfo(turnedGrasp(), tracked);
+  Grasp g = turnedGrasp();
+  g.lag = 0.25;  // the frame moved faster than the pins' speed limit
+  const GraspInfo info = toGraspInfo(g, tracked);
+  EXPECT_DOUBLE_EQ(info.lag, 0.25);
   EXPECT_EQ(info.id, 4);
   EXPECT_EQ(info.frame_id, "gripper");
   EXPECT_DOUBLE_EQ(info.offset.z, 0.1);

@@ -41,6 +41,8 @@ void FrameInputs::moveSphere(Colliders& colliders, int id, const Vec3& center,
 void FrameInputs::beginFrame(const PinSet& pins, double max_pin_move, double frame_time,
                              Colliders& colliders) {
   paths_.clear();
+  max_pin_move_ = max_pin_move;
+  placed_substeps_ = 0;
   for (const auto& [id, from] : frame_targets_) {
     const Pin* pin = pins.find(id);
     if (pin != nullptr && pin->target != from) {
@@ -65,7 +67,11 @@ const PinSet& FrameInputs::pinsAt(int k, int n, double time, GraspSet& grasps, P
     for (const PinPath& path : paths_)
       pins_at_.moveTarget(path.id, path.from + s * (path.to - path.from));
   }
-  if (!grasps.empty()) grasps.place(time, pins, moved ? &pins_at_ : nullptr);
+  if (!grasps.empty()) {
+    const double max_move = max_pin_move_ * (k - placed_substeps_) / n;
+    grasps.place(time, max_move, pins, moved ? &pins_at_ : nullptr);
+  }
+  placed_substeps_ = k;
   return moved ? pins_at_ : pins;
 }
 
@@ -82,7 +88,7 @@ void FrameInputs::endFrame(bool kept, const PinSet& pins, const GraspSet& grasps
     }
   }
   sphere_jumps_.clear();
-  // A grasp's pins follow its frame (GraspSet::place), not the speed limit of the user's moves.
+  // A grasp's pins follow its frame (GraspSet::place, at the speed limit), not a user's move.
   for (auto& [id, target] : frame_end_) {
     if (grasps.graspOf(id) != nullptr) target = pins.find(id)->target;
   }

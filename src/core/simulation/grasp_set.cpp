@@ -12,6 +12,47 @@ bool holds(const Grasp& g, int pin_id) {
   return std::find(g.pin_ids.begin(), g.pin_ids.end(), pin_id) != g.pin_ids.end();
 }
 
+/// The farthest any of @p local (in the grasp frame) moves from @p from to @p to (m).
+double farthestMove(const Pose& from, const Pose& to, const Points& local) {
+  double farthest = 0.0;
+  for (Eigen::Index k = 0; k < local.cols(); ++k) {
+    const Vec3 l = local.col(k);
+    farthest = std::max(farthest, (to * l - from * l).norm());
+  }
+  return farthest;
+}
+
+/// @p from moved rigidly towards @p to with no held particle (@p local) moving more than
+/// @p limit m: @p to itself when none moves farther; else a fraction of the way, the held
+/// particles' centre moving along the straight line and the turn about it slerped.
+Pose towards(const Pose& from, const Pose& to, const Points& local, double limit) {
+  const double full = farthestMove(from, to, local);
+  // Within the limit, or over it by no more than the rounding of the moves before: there.
+  if (full <= limit * (1.0 + 1e-9)) return to;
+  const Vec3 centre = from * Vec3(local.rowwise().mean());
+  const Pose delta = to * from.inverse();  // the whole move, in the simulation frame
+  const Eigen::Quaterniond turn(delta.linear());
+  const Vec3 shift = delta * centre - centre;
+  const auto at = [&](double s) {
+    Pose part = Pose::Identity();
+    part.translate(centre + s * shift);
+    part.rotate(Eigen::Quaterniond::Identity().slerp(s, turn));
+    part.translate(-centre);
+    return Pose(part * from);
+  };
+  // A turn moves a particle along an arc, farther at a fraction s than s times its whole move's
+  // chord: s shrinks until the farthest move is within the limit.
+  double s = limit / full;
+  Pose pose = at(s);
+  for (int i = 0; i < 8; ++i) {
+    const double moved = farthestMove(from, pose, local);
+    if (moved <= limit) break;
+    s *= limit / moved;
+    pose = at(s);
+  }
+  return pose;
+}
+
 }  // namespace
 
 const Grasp* GraspSet::graspOf(int pin_id) const {
@@ -63,6 +104,7 @@ int GraspSet::add(const std::vector<int>& vertices, const Pose& pose, const Poin
   g.id = next_id_++;
   g.vertices = vertices;
   g.pose = pose;
+  g.frame = pose;
   g.local.resize(3, static_cast<Eigen::Index>(vertices.size()));
   const Pose to_local = pose.inverse();
   for (std::size_t k = 0; k < vertices.size(); ++k) {
@@ -82,12 +124,14 @@ void GraspSet::remove(int id, PinSet& pins) {
   grasps_.erase(it);
 }
 
-void GraspSet::place(double time, PinSet& pins, PinSet* pins_at) {
+void GraspSet::place(double time, double max_move, PinSet& pins, PinSet* pins_at) {
   for (Grasp& g : grasps_) {
     if (pose_source_) {
       const Pose pose = pose_source_(g.id, time);
-      if (pose.matrix().allFinite()) g.pose = pose;  // a bad answer keeps the last pose
+      if (pose.matrix().allFinite()) g.frame = pose;  // a bad answer keeps the last pose
     }
+    g.pose = towards(g.pose, g.frame, g.local, max_move);
+    g.lag = farthestMove(g.pose, g.frame, g.local);
     for (std::size_t k = 0; k < g.pin_ids.size(); ++k) {
       const Vec3 target = g.pose * Vec3(g.local.col(static_cast<Eigen::Index>(k)));
       pins.moveTarget(g.pin_ids[k], target);

@@ -1,7 +1,7 @@
 // FrameInputs: a moved pin target goes there linearly across the frame's substeps, at most the
 // speed limit per frame; a kinematic sphere's jump is a velocity for the frame (taken back out
 // after it, or made at once by a rollback); grasp targets follow the pose source at each
-// substep's time. Pure: pins, colliders and grasps, no solver.
+// substep's time, at the substep's share of the speed limit. Pure: pins, colliders and grasps, no solver.
 #include <gtest/gtest.h>
 
 #include "cloth_sim/core/simulation/frame_inputs.h"
@@ -134,6 +134,29 @@ TEST_F(FrameInputsTest, GraspTargetsFollowThePoseSourceAtEachSubstepsTime) {
   // The held pin ends where its frame put it: the next frame sees no move of the user's.
   inputs.beginFrame(pins, 10.0, kFrame, colliders);
   EXPECT_TRUE(inputs.paths().empty());
+}
+
+TEST_F(FrameInputsTest, AGraspFrameThatJumpsIsFollowedAtTheSubstepsShareOfTheSpeedLimit) {
+  grasps.add({2}, Pose::Identity(), x, pins);
+  const Grasp& g = grasps.grasps()[0];
+  grasps.setPoseSource([](int, double) { return Pose(Eigen::Translation3d(0.0, 0.0, -1.0)); });
+  inputs.startPinsAt(pins, x);
+  inputs.beginFrame(pins, 0.2, kFrame, colliders);
+  for (int k = 1; k <= 4; ++k) {
+    inputs.pinsAt(k, 4, k * kFrame / 4, grasps, pins);
+    EXPECT_NEAR(pins.find(g.pin_ids[0])->target.z(), -0.05 * k, 1e-15) << "substep " << k;
+  }
+  inputs.endFrame(true, pins, grasps, kFrame, colliders);
+  // Substeps 2 to 4 merged into one (past the frame deadline): the frame's 0.2 m all the same.
+  inputs.beginFrame(pins, 0.2, kFrame, colliders);
+  inputs.pinsAt(1, 4, 1.25 * kFrame, grasps, pins);
+  EXPECT_NEAR(pins.find(g.pin_ids[0])->target.z(), -0.25, 1e-15);
+  inputs.pinsAt(4, 4, 2 * kFrame, grasps, pins);
+  EXPECT_NEAR(pins.find(g.pin_ids[0])->target.z(), -0.4, 1e-15);
+  EXPECT_NEAR(g.lag, 0.6, 1e-15);
+  inputs.endFrame(true, pins, grasps, kFrame, colliders);
+  inputs.beginFrame(pins, 0.2, kFrame, colliders);
+  EXPECT_TRUE(inputs.paths().empty());  // a grasp's lag is no user's move
 }
 
 }  // namespace

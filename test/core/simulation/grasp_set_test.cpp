@@ -1,8 +1,12 @@
 // GraspSet: a grasp holds its particles as hard pins where they are, refuses bad grasps leaving
-// the pins untouched, moves its targets with its frame, sums its pins' loads into a wrench and
+// the pins untouched, moves its targets with its frame (at most a given move a placement,
+// rigidly, behind a frame that jumps), sums its pins' loads into a wrench and
 // lets go. Pure: pins and positions, no solver.
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -10,6 +14,8 @@
 
 namespace cloth_sim {
 namespace {
+
+constexpr double kNoLimit = std::numeric_limits<double>::infinity();  ///< m: placed on the frame at once
 
 /// Four particles at the corners of a unit square at z = 1.
 Points square() {
@@ -79,7 +85,7 @@ TEST(GraspSet, PlaceMovesTheTargetsWithTheFrameAndKeepsItOnABadAnswer) {
     return p;
   });
   PinSet copy = pins;
-  grasps.place(0.1, pins, &copy);
+  grasps.place(0.1, kNoLimit, pins, &copy);
   const Grasp& g = grasps.grasps()[0];
   for (std::size_t k = 0; k < 2; ++k) {
     const Vec3 expected = turned * Vec3(x.col(g.vertices[k]));
@@ -88,9 +94,60 @@ TEST(GraspSet, PlaceMovesTheTargetsWithTheFrameAndKeepsItOnABadAnswer) {
   }
   answer_nan = true;
   const Vec3 before = pins.find(g.pin_ids[0])->target;
-  grasps.place(0.2, pins, nullptr);
+  grasps.place(0.2, kNoLimit, pins, nullptr);
   EXPECT_EQ(pins.find(g.pin_ids[0])->target, before);
   EXPECT_TRUE(g.pose.matrix().allFinite());
+}
+
+/// The largest distance between the targets of @p pins_ids in @p a and in @p b.
+double farthest(const PinSet& a, const PinSet& b, const std::vector<int>& pin_ids) {
+  double d = 0.0;
+  for (int id : pin_ids) d = std::max(d, (a.find(id)->target - b.find(id)->target).norm());
+  return d;
+}
+
+TEST(GraspSet, AFrameThatJumpsIsFollowedRigidlyAtMostTheGivenMoveAPlacement) {
+  // Issue 23: a gripper frame yanked 1 m knots the cloth. The held particles go there at most
+  // max_move a placement, keeping the grasp's shape, and the lag says how far behind they are.
+  const Points x = square();
+  PinSet pins;
+  GraspSet grasps;
+  grasps.add({0, 1, 3}, Pose::Identity(), x, pins);
+  const Grasp& g = grasps.grasps()[0];
+  const Pose down(Eigen::Translation3d(0.0, 0.0, -1.0));
+  grasps.setPoseSource([&](int, double) { return down; });
+  PinSet before = pins;
+  grasps.place(0.1, 0.05, pins, nullptr);
+  EXPECT_NEAR(farthest(before, pins, g.pin_ids), 0.05, 1e-15);
+  EXPECT_NEAR(g.lag, 0.95, 1e-15);
+  EXPECT_EQ(g.frame.matrix(), down.matrix());
+  for (int k = 0; k < 18; ++k) grasps.place(0.2, 0.05, pins, nullptr);
+  EXPECT_NEAR(g.lag, 0.05, 1e-12);
+  grasps.place(0.3, 0.05, pins, nullptr);  // caught up: held on the frame, exactly
+  EXPECT_EQ(g.lag, 0.0);
+  EXPECT_EQ(g.pose.matrix(), down.matrix());
+  // A half turn about z and 1 m up: every placement moves no particle more than 0.05 m, the
+  // distances between the held particles are kept, and the frame is reached.
+  const Pose turned =
+      Eigen::Translation3d(0.0, 0.0, 1.0) * Eigen::AngleAxisd(M_PI * 0.99, Vec3::UnitZ());
+  grasps.setPoseSource([&](int, double) { return turned; });
+  double last_lag = std::numeric_limits<double>::infinity();
+  int placements = 0;
+  for (; placements < 200 && (placements == 0 || g.lag > 0.0); ++placements) {
+    before = pins;
+    grasps.place(1.0, 0.05, pins, nullptr);
+    EXPECT_LE(farthest(before, pins, g.pin_ids), 0.05 + 1e-12) << "placement " << placements;
+    const Vec3 a = pins.find(g.pin_ids[0])->target, b = pins.find(g.pin_ids[1])->target,
+               c = pins.find(g.pin_ids[2])->target;
+    EXPECT_NEAR((a - b).norm(), 1.0, 1e-12);
+    EXPECT_NEAR((b - c).norm(), 1.0, 1e-12);
+    EXPECT_NEAR((a - c).norm(), std::sqrt(2.0), 1e-12);
+    EXPECT_LT(g.lag, last_lag);
+    last_lag = g.lag;
+  }
+  EXPECT_EQ(g.lag, 0.0) << "after " << placements << " placements";
+  EXPECT_GT(placements, 50);  // 2 m up (from 1 m below) and a corner swung about 1.5 m
+  EXPECT_EQ(g.pose.matrix(), turned.matrix());
 }
 
 TEST(GraspSet, WrenchIsItsPinsLoadsAndTheirTorqueAboutTheFrame) {

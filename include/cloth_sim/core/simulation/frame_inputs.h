@@ -21,6 +21,8 @@ namespace cloth_sim {
 ///   target is reached over several frames);
 /// - grasp targets: before each substep each grasp's frame is asked where it is at the
 ///   substep's end time (GraspSet::place), so a moving gripper carries the cloth continuously;
+///   its held particles follow the frame at the same speed limit, the substep's share of it (a
+///   frame that jumps is caught up with over several frames);
 /// - kinematic sphere jumps: a kinematic sphere the user moved gets the move as an extra
 ///   velocity for the frame, so it sweeps there across the substeps.
 ///
@@ -41,13 +43,15 @@ class FrameInputs {
 
   /// Starts a frame of @p frame_time s at the user's @p pins: each pin whose target moved since
   /// the last frame gets its path, from where its target stood when the last frame ended to the
-  /// new target or @p max_pin_move m (> 0) of the way there; each pending sphere jump becomes an
-  /// extra velocity of its sphere in @p colliders.
+  /// new target or @p max_pin_move m (> 0) of the way there (the grasps' held particles move at
+  /// most as far in the frame); each pending sphere jump becomes an extra velocity of its sphere
+  /// in @p colliders.
   void beginFrame(const PinSet& pins, double max_pin_move, double frame_time, Colliders& colliders);
   /// The pins substep @p k (1..n) of @p n solves with: @p pins itself when no target moved this
   /// frame, else a copy with each moved target at the fraction k / n of its path. Each grasp of
-  /// @p grasps is placed first at its frame's pose at time @p time (s, the substep's end) in
-  /// @p pins and the copy.
+  /// @p grasps is placed first towards its frame's pose at time @p time (s, the substep's end)
+  /// in @p pins and the copy, its held particles moving at most (k - j) / n of the frame's
+  /// max_pin_move since substep j, the one placed before (a k past j + 1: merged substeps).
   const PinSet& pinsAt(int k, int n, double time, GraspSet& grasps, PinSet& pins);
   /// Ends the frame. If it was @p kept, the sphere jumps' velocities are taken back out;
   /// otherwise (rolled back, @p colliders restored) the moved spheres are put where they were
@@ -77,6 +81,8 @@ class FrameInputs {
   std::vector<std::pair<int, Vec3>> frame_targets_;  ///< pin id -> target at the last frame's end
   std::vector<std::pair<int, Vec3>> frame_end_;      ///< pin id -> target at this frame's end
   std::vector<PinPath> paths_;
+  double max_pin_move_ = 0.0;  ///< m, this frame's (beginFrame)
+  int placed_substeps_ = 0;    ///< of this frame, whose grasps are placed (pinsAt)
   PinSet pins_at_;  ///< the substep's pins when some target moves this frame
   std::vector<SphereJump> sphere_jumps_;
 };

@@ -41,11 +41,12 @@ class GraspSet {
   /// The pose source set by setPoseSource (empty if none).
   const GraspPoseSource& poseSource() const { return pose_source_; }
   /// Each grasp's frame at simulated time @p time (s), from the pose source (an answer that is
-  /// not finite keeps the last pose), and its pins' targets there, written into @p pins and, if
-  /// given, @p pins_at (the substep's copy of the pins).
-  void place(double time, PinSet& pins, PinSet* pins_at);
+  /// not finite keeps the last one); its pose moved rigidly towards the frame, no held particle
+  /// moving more than @p max_move m (the frame itself when none would), and its pins' targets
+  /// there, written into @p pins and, if given, @p pins_at (the substep's copy of the pins).
+  void place(double time, double max_move, PinSet& pins, PinSet* pins_at);
   /// Each grasp's wrench from the pin loads @p loads (N, in pins.pins() order) at @p positions
-  /// (m): the force sum and its torque about the frame's origin.
+  /// (m): the force sum and its torque about its pose's origin.
   void updateWrenches(const PinSet& pins, const std::vector<Vec3>& loads, const Points& positions);
 
   const std::vector<Grasp>& grasps() const { return grasps_; }

@@ -128,7 +128,10 @@ class Simulation {
   /// Holds @p vertices (distinct, in range, not pinned yet, at least one) rigidly by a frame now
   /// at @p pose: each becomes a hard pin where it is now. From the next substep on, the targets
   /// follow the frame given by the pose source (setGraspPoseSource; without one, the frame stays
-  /// at @p pose). Returns the grasp id. Throws std::invalid_argument naming what is wrong.
+  /// at @p pose), rigidly and at the pins' speed limit: a held particle moves at most
+  /// maxPinMove() per frame, so a frame that jumps is caught up with over several frames
+  /// (Grasp::lag says how far behind). Returns the grasp id. Throws std::invalid_argument
+  /// naming what is wrong.
   int addGrasp(const std::vector<int>& vertices, const Pose& pose);
   /// The grasp holding pin @p pin_id, or nullptr for a pin of the user's own.
   const Grasp* graspOf(int pin_id) const { return grasps_.graspOf(pin_id); }
@@ -231,11 +234,13 @@ class Simulation {
   int countIntersections();
   /// Numeric factorizations done by all solvers so far.
   int factorizationCount() const { return retired_factorizations_ + solver_->factorizationCount(); }
-  /// The farthest a pin's target moves in one frame (m): substeps x the shortest spring's rest
-  /// length x divergence_strain / 10. A target set farther away is approached at that speed.
+  /// The farthest a pin's target, or a grasp's held particle, moves in one frame (m): substeps x
+  /// the shortest spring's rest length x divergence_strain / 10. A target set farther away, or a
+  /// grasp frame moving faster, is approached at that speed.
   double maxPinMove() const;
-  /// A speed limit on the pins' targets (m/s; 0: none, the default): maxPinMove() is then at
-  /// most this times the frame time. Throws for a negative or non-finite value.
+  /// A speed limit on the pins' targets and the grasps' held particles (m/s; 0: none, the
+  /// default): maxPinMove() is then at most this times the frame time. Throws for a negative or
+  /// non-finite value.
   void setPinSpeedLimit(double metres_per_second);
   /// Bumped when h, a stiffness, a mass, the pin set or the integrator changes (see
   /// SolverInput::revision).

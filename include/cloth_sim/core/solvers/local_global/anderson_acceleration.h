@@ -35,16 +35,12 @@ class AndersonAcceleration final : public Acceleration {
 
  private:
   void clearHistory();
-  /// Appends dF = f - f_last, dG = g_map - g_map_last to the history (dropping the oldest
-  /// beyond the window) and keeps f, g_map as the last residual and map value.
-  void pushHistory(const NodeBuffer& f, const NodeBuffer& g_map);
 
   int window_ = 5;
   Eigen::MatrixXd d_f_, d_g_;  ///< columns: the last differences of F and G (a ring)
   Eigen::MatrixXd gram_;       ///< dF^T dF of the columns in use
   int history_ = 0;            ///< columns in use
   int next_column_ = 0;        ///< the ring's next column to overwrite
-  NodeBuffer f_;               ///< F of the current iterate
   NodeBuffer f_last_, g_last_;  ///< F and G of the previous accepted iterate
   bool has_last_ = false;
   int restarts_ = 0;
