@@ -29,7 +29,7 @@ for n in "${sizes[@]}"; do
     # CPU time (user + system) of the whole run as well as the wall times of the CSV: on a
     # loaded machine the wall time of a step includes the time others had the core.
     /usr/bin/time -f "%U %S" -o "$tmp/time" "$RUN" --scene "$scene" \
-        --resolution "$n" --fold 1.5 --duration 3 --self-collision "$on" --quiet \
+        --resolution "$n" --fold 1.5 --duration 3 --self-collision "$on" --threads 1 --quiet \
         --csv "$tmp/fold_${n}_${mode}.csv"
     cpu=$(awk '{print $1 + $2}' "$tmp/time")
     echo "$n,$((n * n)),$mode,$load_before,$(cut -d' ' -f1 /proc/loadavg),$cpu,$tmp/fold_${n}_${mode}.csv" \
