@@ -86,14 +86,11 @@ DiagnosticsReport diagnosticsReport(const DiagnosticsInput& in) {
   if (!in.lagging_grasps.empty()) {
     std::string grasps;
     for (const auto& [id, lag] : in.lagging_grasps) {
-      char text[80];
-      std::snprintf(text, sizeof text, "grasp %d by %.3f m", id, lag);
-      grasps += (grasps.empty() ? "" : ", ") + std::string(text);
+      grasps += (grasps.empty() ? "grasp " : ", grasp ") + std::to_string(id) + " by " +
+                fixed3(lag) + " m";
     }
-    char speed[80];
-    std::snprintf(speed, sizeof speed, "%.3f m/s", in.pin_speed);
-    warn("grasp frame faster than the pin speed limit (" + std::string(speed) +
-         "), held behind it: " + grasps);
+    warn("grasp frame faster than the pin speed limit (" + fixed3(in.pin_speed) +
+         " m/s), held behind it: " + grasps);
     add("grasps behind their frame", grasps);
   }
   return r;
