@@ -136,11 +136,17 @@ void Solver::requireSettings(const SolverSettings& settings) const {
 }
 
 double IterationError::add(double change) {
-  double rate = 0.5;
-  if (last_change_ > 0.0) rate = std::min(kMaxRate, change / last_change_);
-  else if (last_change_ == 0.0) rate = 0.0;
+  ++changes_;
+  const double previous = last_change_;
   last_change_ = change;
-  estimate_ = change * rate / (1.0 - rate);
+  if (change == 0.0) {  // at the fixed point
+    estimate_ = 0.0;
+  } else if (changes_ < kFirstTrusted || !(previous > 0.0)) {
+    estimate_ = std::numeric_limits<double>::infinity();
+  } else {
+    const double rate = std::min(kMaxRate, change / previous);
+    estimate_ = change * rate / (1.0 - rate);
+  }
   return estimate_;
 }
 

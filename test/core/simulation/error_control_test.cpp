@@ -113,6 +113,31 @@ struct Oscillator {
   }
 };
 
+// The iterates x_k = A [k == 0] + B r^k: the first iteration removes the initial guess's error A
+// (a fast mode) and leaves a slow mode of rate r. The rate read from d_2 / d_1 would be about
+// B / A (here 1e-4) and the tail estimate 1e5 times too small.
+TEST(IterationError, ReadsNoRateFromTheMoveAwayFromTheInitialGuess) {
+  const double a = 1.0, b = 1e-3, r = 0.9;
+  auto x = [&](int k) { return (k == 0 ? a : 0.0) + b * std::pow(r, k); };
+  IterationError error;
+  EXPECT_TRUE(std::isinf(error.add(std::abs(x(1) - x(0)))));
+  EXPECT_TRUE(std::isinf(error.add(std::abs(x(2) - x(1)))));
+  for (int k = 3; k <= 6; ++k) {
+    const double estimate = error.add(std::abs(x(k) - x(k - 1)));
+    EXPECT_NEAR(estimate, x(k), 1e-12 * b) << "after change " << k;  // the exact geometric tail
+  }
+}
+
+TEST(IterationError, AZeroChangeIsTheFixedPointAndAStallIsNeverDone) {
+  IterationError at_rest;
+  EXPECT_EQ(at_rest.add(0.0), 0.0);
+  IterationError stalled;
+  stalled.add(1.0);
+  stalled.add(1.0);
+  // The rate is capped at kMaxRate: a change that does not shrink leaves 19 changes to go.
+  EXPECT_NEAR(stalled.add(1.0), IterationError::kMaxRate / (1.0 - IterationError::kMaxRate), 1e-12);
+}
+
 TEST(ErrorEstimate, WithinAFactorOfThreeOfTheTrueLocalErrorOfAnOscillator) {
   const Oscillator osc;
   const double w = osc.omega();

@@ -169,17 +169,23 @@ struct SolveResult {
 /// The iteration error of a linearly converging iteration, from its position changes: with the
 /// change d_k = RMS |x_{k+1} - x_k| (m) and the observed rate rho = d_k / d_{k-1}, the distance
 /// to the fixed point is about d_k rho / (1 - rho) (a geometric tail). rho is capped at kMaxRate
-/// (a slow or stalled iteration is not trusted to be nearly done) and taken as 1/2 at the first
-/// iteration.
+/// (a slow or stalled iteration is not trusted to be nearly done). The first change is the move
+/// away from the initial guess (the inertial prediction or the warm start), whose error the first
+/// iteration mostly removes in the fast modes, so d_2 / d_1 is far below the rate of the slow
+/// modes that remain: no rate is read from it, and the estimate is infinite until the third
+/// change (kFirstTrusted), unless a change is exactly 0 (the fixed point itself).
 class IterationError {
  public:
   static constexpr double kMaxRate = 0.95;
+  /// The first change whose rate (d_k / d_{k-1}, k >= 3) the estimate trusts.
+  static constexpr int kFirstTrusted = 3;
   /// Records the change of one more iteration (m); returns the estimate (m).
   double add(double change);
-  /// The last estimate (m), infinity before the first change.
+  /// The last estimate (m), infinity before kFirstTrusted changes.
   double estimate() const { return estimate_; }
 
  private:
+  int changes_ = 0;
   double last_change_ = -1.0;
   double estimate_ = std::numeric_limits<double>::infinity();
 };
