@@ -275,8 +275,17 @@ int ContactForces::completeFriction(Points& positions, Points& velocities,
     // cloth never creeps; outside it slides as the solve left it.
     if ((c.friction - slip / c.response).norm() > c.mu * c.lambda) continue;
     positions.col(p) -= slip;
-    // d v_{n+1} / d x_{n+1} = 1 / h_i for implicit Euler (h_i = h) and BDF2.
-    velocities.col(p) -= slip / implicit_h_;
+    if (multistep) {
+      // Stuck, the particle stops tangentially as suddenly as along the normal, and BDF2 would
+      // read that stop as a deceleration too and send it back (a cloth landing on a table's
+      // edge crumpled there, measured): its velocity and history restart whole as implicit
+      // Euler's. A sliding contact keeps BDF2's order tangentially.
+      const Vec3 euler = (Vec3(positions.col(p)) - start_.col(p)) / h_;
+      velocities.col(p) = euler;
+      if (history_velocities != nullptr) history_velocities->col(p) = euler;
+    } else {
+      velocities.col(p) -= slip / h_;  // implicit Euler: d v_{n+1} / d x_{n+1} = 1 / h
+    }
     ++stuck;
   }
   return stuck;

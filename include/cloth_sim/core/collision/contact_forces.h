@@ -96,7 +96,9 @@ class ContactForces {
   /// the contacts that stuck.
   /// Under a multistep integrator (BDF2: h_i < h) every pushing still contact also restarts its
   /// particle's velocity along the normal, and that of @p history_velocities (State::
-  /// previous_velocities, or null), as resolveCollisions does: contacts are inelastic.
+  /// previous_velocities, or null), as resolveCollisions does: contacts are inelastic. A
+  /// contact that sticks restarts both whole, as implicit Euler's (x_{n+1} - x_n) / h: its
+  /// tangential stop is as sudden, and BDF2 would send it back the way it came.
   int completeFriction(Points& positions, Points& velocities, Points* history_velocities,
                        bool stick) const;
 
