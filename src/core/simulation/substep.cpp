@@ -35,6 +35,12 @@ void SubstepPipeline::collide(const SubstepWorld& world, const PinSet& pins, dou
   State& state = world.state;
   Colliders& colliders = world.colliders;
   const Model& model = world.model;
+  if (!colliders.empty()) {  // an overlap the step starts with is not a motion of the step
+    const bool history =
+        state.has_previous && state.previous_positions.cols() == state.positions.cols();
+    depenetrateStart(colliders, world.movable, state.positions,
+                     history ? &state.previous_positions : nullptr);
+  }
   const bool loads = !pins.empty();
   // Nothing to collide with: no contacts and no start state to keep.
   const bool collide = !colliders.empty() || world.self_contact != nullptr;

@@ -1,8 +1,10 @@
 #include <cmath>
+#include <string>
 
 #include <gtest/gtest.h>
 
 #include "cloth_sim/core/collision/colliders.h"
+#include "cloth_sim/core/io/scene.h"
 
 namespace cloth_sim {
 namespace {
@@ -112,6 +114,68 @@ TEST(Colliders, RefusesBadSpheresNamingTheField) {
   const int id = c.addSphere(SphereCollider{-1, Vec3::Zero(), 1.0, Vec3::Zero(), 0.0});
   EXPECT_THROW(c.moveSphere(id, Vec3(0, 0, INFINITY), Vec3::Zero()), std::invalid_argument);
   EXPECT_EQ(c.findSphere(id)->center, Vec3::Zero());
+}
+
+TEST(DepenetrateStart, MovesAParticleOutOfAStillSphereAndItsHistoryByTheSameAmount) {
+  Colliders c;
+  c.addSphere(SphereCollider{-1, Vec3(0, 0, 1), 0.2, Vec3::Zero(), 0.0});
+  Points x(3, 1), previous(3, 1);
+  x.col(0) = Vec3(0.03, 0.04, 1.0);  // 5 cm from the centre, 15 cm inside
+  previous.col(0) = Vec3(0.03, 0.04, 1.01);
+  const Vec3 step = x.col(0) - previous.col(0);
+  EXPECT_EQ(depenetrateStart(c, {1}, x, &previous), 1);
+  EXPECT_NEAR((x.col(0) - Vec3(0, 0, 1)).norm(), 0.2, 1e-15);
+  EXPECT_NEAR((x.col(0) - Vec3(0.12, 0.16, 1.0)).norm(), 0.0, 1e-15);  // radially out
+  EXPECT_NEAR((x.col(0) - previous.col(0) - step).norm(), 0.0, 1e-15);  // the step's motion kept
+}
+
+TEST(DepenetrateStart, LiftsOntoTheGroundAndLeavesPinnedOutsideAndDynamicAlone) {
+  Colliders c;
+  c.setGround(GroundPlane{true, 0.0, 0.5});
+  SphereCollider ball{-1, Vec3(5, 0, 1), 0.5, Vec3::Zero(), 0.0};
+  ball.mass = 1.0;  // dynamic: its overlap is the solve's, which exchanges momentum
+  c.addSphere(ball);
+  Points x(3, 4);
+  x.col(0) = Vec3(0.1, 0.2, -0.3);  // below the ground
+  x.col(1) = Vec3(0.0, 0.0, -0.3);  // below, but hard-pinned
+  x.col(2) = Vec3(1.0, 1.0, 0.5);   // outside everything
+  x.col(3) = Vec3(5.0, 0.0, 1.1);   // inside the dynamic sphere
+  const Points before = x;
+  EXPECT_EQ(depenetrateStart(c, {1, 0, 1, 1}, x, nullptr), 1);
+  EXPECT_EQ(x.col(0), Vec3(0.1, 0.2, 0.0));
+  EXPECT_EQ(x.rightCols(3), before.rightCols(3));
+}
+
+/// A 0.2 m sheet lying still at z = 0, without gravity, after the ground was raised 5 cm under
+/// it (as a live setting can) and one frame of 1/60 s.
+Simulation sheetUnderARaisedGround(int substeps, const std::string& integrator) {
+  Simulation sim = makeSimulation(parseScene(
+      "time_step: 1/60\n"
+      "gravity: [0, 0, 0]\n"
+      "solver: {name: local_global, substeps: " + std::to_string(substeps) +
+          ", iterations: 10, integrator: " + integrator + "}\n"
+      "cloth: {grid: {rows: 5, cols: 5, size: [0.2, 0.2], position: [0, 0, 0]}}\n"
+      "material: {areal_density: 0.2, springs: {structural: 1000, shear: 100}}\n"
+      "colliders: {ground: {height: 0, friction: 0.5}}\n",
+      "sheet_on_ground"));
+  sim.step();  // a history for BDF2
+  sim.setGround(GroundPlane{true, 0.05, 0.5});
+  sim.step();
+  return sim;
+}
+
+// An overlap the step starts with is moved out of, not driven out of: pushed out in the step,
+// it would become the velocity depth / h (3 m/s at 1 substep, 384 m/s at 128) and the sheet
+// would fly off the ground. Lifted without velocity, it rests there at any step.
+TEST(DepenetrateStart, ASheetUnderARaisedGroundIsLiftedOntoItAtRestAtAnyStep) {
+  for (const std::string integrator : {"implicit_euler", "bdf2"}) {
+    for (int substeps : {1, 8, 128}) {
+      const Simulation sim = sheetUnderARaisedGround(substeps, integrator);
+      const State& s = sim.state();
+      EXPECT_LT((s.positions.row(2).array() - 0.05).abs().maxCoeff(), 1e-12) << integrator << " " << substeps;
+      EXPECT_LT(s.velocities.cwiseAbs().maxCoeff(), 1e-9) << integrator << " " << substeps;
+    }
+  }
 }
 
 }  // namespace
