@@ -92,6 +92,7 @@ ClothState toClothState(const Simulation& sim, const StepReport& report,
   s.error_estimate = report.error_estimate;
   s.error_tolerance = report.error_tolerance;
   s.tolerance_unreachable = report.tolerance_unreachable;
+  s.rejected_substeps = report.rejected_substeps;
   s.substeps = report.substeps;
   s.cut_substeps = report.cut_substeps;
   s.merged_substeps = report.merged_substeps;

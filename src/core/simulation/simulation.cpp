@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -106,6 +107,51 @@ StepReport Simulation::step() {
   const auto t0 = std::chrono::steady_clock::now();
   const State before = state_;
   const Colliders colliders_before = colliders_;
+  // What else a frame changes, kept to run it again when error control rejects it.
+  struct FrameStart {
+    PinSet pins;
+    FrameInputs inputs;
+    GraspSet grasps;
+    SubstepPipeline substep;
+    SolverCarry carry;
+    std::vector<Vec3> pin_loads;
+  };
+  std::optional<FrameStart> start;
+  if (options_.settings.automaticSubsteps() && !self_contact_) {
+    start = FrameStart{pins_, inputs_, grasps_, substep_, solver_->carriedOver(), pin_loads_};
+  }
+  StepReport report = runFrame(t0, before, colliders_before);
+  int rejected = 0;
+  // Not once a deadline cut the frame short: the time for it is spent.
+  while (start && report.status == StepStatus::kOk && !report.shortfall() &&
+         substeps_ > report.substeps &&
+         report.error_estimate > kRedoShare * report.error_tolerance) {
+    rejected += report.substeps;
+    state_ = before;
+    colliders_ = colliders_before;
+    pins_ = start->pins;
+    inputs_ = start->inputs;
+    grasps_ = start->grasps;
+    substep_ = start->substep;
+    solver_->carryOver(start->carry);
+    pin_loads_ = start->pin_loads;
+    controller_.restart();
+    report = runFrame(t0, before, colliders_before);
+  }
+  report.rejected_substeps = rejected;
+  grasps_.updateWrenches(pins_, pin_loads_, state_.positions);
+  if (self_contact_) {
+    const auto t_count = std::chrono::steady_clock::now();
+    report.intersections = countIntersections();
+    report.intersection_time =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_count).count();
+  }
+  report.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return report;
+}
+
+StepReport Simulation::runFrame(std::chrono::steady_clock::time_point t0, const State& before,
+                                const Colliders& colliders_before) {
   const int n = substeps_;
   const double h = substepTime();
   inputs_.beginFrame(pins_, maxPinMove(), options_.frame_time, colliders_);
@@ -154,14 +200,6 @@ StepReport Simulation::step() {
     substeps_ = next.substeps;
     report.tolerance_unreachable = next.capped;
   }
-  grasps_.updateWrenches(pins_, pin_loads_, state_.positions);
-  if (self_contact_) {
-    const auto t_count = std::chrono::steady_clock::now();
-    report.intersections = countIntersections();
-    report.intersection_time =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_count).count();
-  }
-  report.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;
 }
 

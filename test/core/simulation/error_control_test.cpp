@@ -246,5 +246,60 @@ TEST(ErrorControl, ARerunIsTheSameToTheBit) {
   EXPECT_EQ(sim.state().positions, after);
 }
 
+// --- a frame far over the tolerance is run again ----------------------------------------------
+
+/// A 0.5 m sheet pinned on every edge with a still sphere pressed 7 cm into it, at the scene
+/// format's default (error control), or at @p substeps fixed ones (0: automatic) with the
+/// same tolerance. The overlap is moved out of at the start and the springs snap back in the
+/// first frame: a transient the first frame's 8 substeps cannot follow.
+SceneConfig snapScene(int substeps) {
+  SceneConfig s = parseScene(R"(time_step: 1/60
+cloth: {grid: {rows: 12, cols: 12, size: [0.5, 0.5], position: [0.0, 0.0, 1.0]}}
+material: {areal_density: 0.2, damping: 0.5, springs: {structural: 400, shear: 40}}
+pins: [{edge: all}]
+colliders: {spheres: [{center: [0.0, 0.0, 1.03], radius: 0.1}]}
+)",
+                             "snap");
+  if (substeps > 0) {
+    s.options.settings.substeps = substeps;
+    s.given.substeps = true;
+  }
+  return s;
+}
+
+TEST(ErrorControl, AFrameFarOverTheToleranceIsRunAgainWithMoreSubsteps) {
+  Simulation sim = makeSimulation(snapScene(0));
+  const StepReport first = sim.step();
+  ASSERT_EQ(first.status, StepStatus::kOk);
+  std::printf("[measured] first frame: %d substeps kept, %d rejected, estimate %.3g m (%.1fx "
+              "the tolerance)\n",
+              first.substeps, first.rejected_substeps, first.error_estimate,
+              first.error_estimate / first.error_tolerance);
+  EXPECT_GT(first.rejected_substeps, 0);
+  EXPECT_GT(first.substeps, Simulation::kFirstAutomaticSubsteps);
+  EXPECT_TRUE(first.error_estimate <= Simulation::kRedoShare * first.error_tolerance ||
+              first.substeps == sim.substepLimit());
+  // The frame kept is closer to the converged motion than the one at the first substeps.
+  SceneConfig converged = snapScene(512);
+  converged.options.settings.error_tolerance = 0.0;
+  converged.options.settings.max_iterations = 200;
+  converged.options.settings.tolerance = 1e-10;
+  converged.options.settings.integrator = Integrator::kBdf2;
+  converged.given = SolverFieldsGiven{true, true, true, true};
+  Simulation truth = makeSimulation(converged);
+  truth.step();
+  SceneConfig fixed = snapScene(Simulation::kFirstAutomaticSubsteps);
+  fixed.options.settings.error_tolerance = first.error_tolerance;  // the same iterations' stop
+  fixed.options.settings.integrator = Integrator::kBdf2;
+  fixed.given.error_tolerance = true;
+  Simulation first_try = makeSimulation(fixed);
+  first_try.step();
+  const double kept = rms(sim.state().positions, truth.state().positions);
+  const double rejected = rms(first_try.state().positions, truth.state().positions);
+  std::printf("[measured] RMS against the converged frame: %.3g m kept, %.3g m at %d substeps\n",
+              kept, rejected, Simulation::kFirstAutomaticSubsteps);
+  EXPECT_LT(kept, 0.5 * rejected);
+}
+
 }  // namespace
 }  // namespace cloth_sim

@@ -35,6 +35,9 @@ struct StepReport {
   /// The error tolerance needs more substeps than allowed (the maximum, or a frame budget):
   /// the next frames run at the allowed maximum and their error is over the tolerance.
   bool tolerance_unreachable = false;
+  /// Substeps of the attempts at this frame that error control rejected and ran again with
+  /// more substeps (Simulation::kRedoShare); substeps and the figures above are the kept run's.
+  int rejected_substeps = 0;
   double convergence = 0.0;  ///< relative position change of the last iteration (last substep)
   bool converged = false;    ///< the solver tolerance was reached
   double solve_time = 0.0;   ///< s of wall time in the solver (all substeps)
