@@ -49,6 +49,9 @@ struct Config {
   /// The scene format's default as a user gets it (no solver block: error control, BDF2, a
   /// tolerance of kDefaultRelativeErrorTolerance x the cloth's size); labelled "default".
   bool scene_default = false;
+  /// With scene_default: run it with `integrator` instead of the format's (a scene that
+  /// gives only solver.integrator), to compare.
+  bool default_integrator = false;
   bool errorControlled() const { return scene_default || error_tolerance > 0.0; }
   /// The solver column: "local_global", "local_global/bdf2", "anderson+warm/bdf2".
   std::string name() const {
@@ -142,6 +145,10 @@ SceneConfig configured(SceneConfig scene, const Config& config) {
     scene.options.solver = defaultSceneOptions().solver;
     scene.options.settings = defaultSceneOptions().settings;
     scene.given = SolverFieldsGiven{};
+    if (config.default_integrator) {
+      scene.options.settings.integrator = config.integrator;
+      scene.given.integrator = true;
+    }
     return scene;
   }
   const bool as_setting = settings::kSubsteps.allows(config.substeps);
@@ -246,11 +253,11 @@ bool readSamples(const std::string& path, std::vector<Sample>& samples) {
   return static_cast<bool>(in);
 }
 
-/// "verlet" or "implicit": the reference integrator for @p scene (see AccuracyOptions::reference).
+/// "verlet", "implicit" or "bdf2": the reference integrator for @p scene (see AccuracyOptions::reference).
 std::string referenceKind(const SceneConfig& scene, const AccuracyOptions& o) {
   if (o.reference != "auto") return o.reference;
   const bool colliders = !scene.spheres.empty() || !scene.meshes.empty() || scene.ground.enabled;
-  return colliders ? "implicit" : "verlet";
+  return colliders ? "bdf2" : "verlet";
 }
 
 /// A hash of everything that defines the motion of @p scene's simulation (model, initial
@@ -294,9 +301,10 @@ std::size_t motionFingerprint(const SceneConfig& scene) {
 std::vector<Sample> reference(const SceneConfig& scene, const std::string& case_name,
                               int substeps, const std::vector<int>& frames,
                               const AccuracyOptions& o) {
-  const Config config = referenceKind(scene, o) == "verlet"
-                            ? Config{"verlet", substeps, 1, 0.0}
-                            : Config{"chebyshev", substeps, 2000, 1e-9};
+  const std::string kind = referenceKind(scene, o);
+  Config config = kind == "verlet" ? Config{"verlet", substeps, 1, 0.0}
+                                   : Config{"chebyshev", substeps, 2000, 1e-9};
+  if (kind == "bdf2") config.integrator = Integrator::kBdf2;
   std::ostringstream key;
   key << motionFingerprint(scene) << '|' << case_name << '|' << config.label();
   for (int f : frames) key << ',' << f;
@@ -333,6 +341,10 @@ std::vector<Config> configsFor(const AccuracyOptions& o, int grid) {
   if (o.scene_default) {
     Config c;
     c.scene_default = true;
+    if (!o.default_integrator.empty()) {
+      c.integrator = integratorFromName(o.default_integrator);
+      c.default_integrator = true;
+    }
     configs.push_back(c);
   }
   if (o.default_only) return configs;
@@ -389,9 +401,11 @@ TrueMotion trueMotion(const SceneConfig& scene, const std::string& case_name,
   const double frame = scene.time_step;
   for (double t : times) truth.frames.push_back(static_cast<int>(std::lround(t / frame)));
   truth.kind = referenceKind(scene, o);
-  const int substeps = truth.kind == "verlet"
-                           ? std::max(o.reference_substeps, verletSubsteps(scene))
-                           : o.reference_substeps;
+  int substeps = o.reference_substeps;
+  if (truth.kind == "verlet") substeps = std::max(substeps, verletSubsteps(scene));
+  if (truth.kind == "bdf2") {
+    substeps = std::max(substeps, AccuracyOptions::kContactReferenceSubsteps);
+  }
   truth.h = frame / (2 * substeps);
   const std::vector<Sample> coarse = reference(scene, case_name, substeps, truth.frames, o);
   const std::vector<Sample> fine = reference(scene, case_name, 2 * substeps, truth.frames, o);

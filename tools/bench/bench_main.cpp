@@ -168,6 +168,9 @@ int main(int argc, char** argv) {
                          "no error-controlled configurations (as an empty --error-tolerances)");
   accuracy_cmd->add_flag("!--no-default", accuracy.scene_default,
                          "leave out the scene format's default (error control, BDF2)");
+  accuracy_cmd->add_option("--default-integrator", accuracy.default_integrator,
+                           "run the default with this integrator instead of the format's")
+      ->check(CLI::IsMember(cloth_sim::integratorNames()));
   accuracy_cmd->add_flag("--default-only", accuracy.default_only,
                          "run the scene format's default only (no sweep)");
   accuracy_cmd->add_option("--local-error-frames", accuracy.local_error_frames,
@@ -198,7 +201,7 @@ int main(int argc, char** argv) {
   accuracy_cmd->add_option("--times", accuracy.times, "sample times, s")->delimiter(',')
       ->capture_default_str()->check(CLI::PositiveNumber);
   accuracy_cmd->add_option("--reference", accuracy.reference, "reference integrator")
-      ->capture_default_str()->check(CLI::IsMember({"auto", "implicit", "verlet"}));
+      ->capture_default_str()->check(CLI::IsMember({"auto", "bdf2", "implicit", "verlet"}));
   accuracy_cmd->add_option("--reference-substeps", accuracy.reference_substeps,
                            "reference: h = frame / (2 x this); its error from h = frame / this")
       ->capture_default_str()->check(CLI::Range(1, 10000));
