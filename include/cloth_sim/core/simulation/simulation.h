@@ -205,10 +205,10 @@ class Simulation {
   static constexpr int kFirstAutomaticSubsteps = 8;
   /// A frame whose error estimate is over this many times the tolerance is run again from its
   /// start with the substeps the controller then picks, as long as it picks more (automatic
-  /// substeps, no self-contact, and not once a frame deadline cut the frame short). A controller that only chose the next
-  /// frame kept the frame that showed the error: a sheet snapping off a sphere it started in
-  /// kept 8 substeps at 400x the tolerance for its first frame and lost three quarters of its
-  /// energy there.
+  /// substeps, no self-contact, and not once a frame deadline cut the frame short). A
+  /// controller that only chose the next frame kept the frame that showed the error: a sheet
+  /// snapping off a sphere it started in kept 8 substeps at 400x the tolerance for its first
+  /// frame and lost three quarters of its energy there.
   static constexpr double kRedoShare = 4.0;
   /// Share of a substep's part of the frame's error tolerance (error_tolerance / substeps) its
   /// iterations may leave (SolverInput::iteration_tolerance); the rest is for truncation.
