@@ -172,7 +172,8 @@ TEST(DepenetrateStart, ASheetUnderARaisedGroundIsLiftedOntoItAtRestAtAnyStep) {
     for (int substeps : {1, 8, 128}) {
       const Simulation sim = sheetUnderARaisedGround(substeps, integrator);
       const State& s = sim.state();
-      EXPECT_LT((s.positions.row(2).array() - 0.05).abs().maxCoeff(), 1e-12) << integrator << " " << substeps;
+      EXPECT_LT((s.positions.row(2).array() - 0.05).abs().maxCoeff(), 1e-12)
+          << integrator << " " << substeps;
       EXPECT_LT(s.velocities.cwiseAbs().maxCoeff(), 1e-9) << integrator << " " << substeps;
     }
   }
