@@ -257,6 +257,29 @@ int ContactForces::completeFriction(Points& positions, Points& velocities,
   for (const Contact& c : contacts_) {
     if (c.body >= 0 || c.lambda <= 0.0) continue;
     const int p = c.vertex[0];
+    if (stick && c.mu > 0.0) {
+      const Vec3 moved = positions.col(p) - start_.col(p);
+      const Vec3 slip = moved - moved.dot(c.normal) * c.normal;
+      // The friction that would cancel what the iterations left of the slip (one full
+      // projected Jacobi step): inside the cone the contact sticks, and that slip is taken out,
+      // so a resting cloth never creeps; outside it slides as the solve left it.
+      if ((c.friction - slip / c.response).norm() <= c.mu * c.lambda) {
+        positions.col(p) -= slip;
+        if (multistep) {
+          // Stuck, the particle stops tangentially as suddenly as along the normal, and BDF2
+          // would read that stop as a deceleration too and send it back (a cloth landing on a
+          // table's edge crumpled there, measured): its velocity and history restart whole as
+          // implicit Euler's. A sliding contact keeps BDF2's order tangentially.
+          const Vec3 euler = (Vec3(positions.col(p)) - start_.col(p)) / h_;
+          velocities.col(p) = euler;
+          if (history_velocities != nullptr) history_velocities->col(p) = euler;
+        } else {
+          velocities.col(p) -= slip / h_;  // implicit Euler: d v_{n+1} / d x_{n+1} = 1 / h
+        }
+        ++stuck;
+        continue;
+      }
+    }
     if (multistep) {
       // Inelastic along the normal: the velocity and its history restart as implicit Euler's
       // there (resolveCollisions' restartAlong says why).
@@ -267,26 +290,6 @@ int ContactForces::completeFriction(Points& positions, Points& velocities,
         history.col(p) += c.normal * (normal_speed - c.normal.dot(history.col(p)));
       }
     }
-    if (!stick || c.mu <= 0.0) continue;
-    const Vec3 moved = positions.col(p) - start_.col(p);
-    const Vec3 slip = moved - moved.dot(c.normal) * c.normal;
-    // The friction that would cancel what the iterations left of the slip (one full projected
-    // Jacobi step): inside the cone the contact sticks, and that slip is taken out, so a resting
-    // cloth never creeps; outside it slides as the solve left it.
-    if ((c.friction - slip / c.response).norm() > c.mu * c.lambda) continue;
-    positions.col(p) -= slip;
-    if (multistep) {
-      // Stuck, the particle stops tangentially as suddenly as along the normal, and BDF2 would
-      // read that stop as a deceleration too and send it back (a cloth landing on a table's
-      // edge crumpled there, measured): its velocity and history restart whole as implicit
-      // Euler's. A sliding contact keeps BDF2's order tangentially.
-      const Vec3 euler = (Vec3(positions.col(p)) - start_.col(p)) / h_;
-      velocities.col(p) = euler;
-      if (history_velocities != nullptr) history_velocities->col(p) = euler;
-    } else {
-      velocities.col(p) -= slip / h_;  // implicit Euler: d v_{n+1} / d x_{n+1} = 1 / h
-    }
-    ++stuck;
   }
   return stuck;
 }
