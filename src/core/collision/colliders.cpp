@@ -316,18 +316,21 @@ void Colliders::advance(double h, const Vec3& gravity, double decay) {
 int depenetrateStart(const Colliders& colliders, const std::vector<char>& movable,
                      Points& positions, Points* previous_positions) {
   const GroundPlane& ground = colliders.ground();
+  const std::vector<SphereCollider>& spheres = colliders.spheres();
+  const SphereCandidates candidates(spheres, 0.0);  // the spheres where they stand
   int moved = 0;
   for (Eigen::Index i = 0; i < positions.cols(); ++i) {
     if (!movable[i]) continue;
     const Vec3 before = positions.col(i);
-    for (const SphereCollider& s : colliders.spheres()) {
-      if (s.isDynamic()) continue;
+    candidates.forEach(before, before, [&](std::size_t k) {
+      const SphereCollider& s = spheres[k];
+      if (s.isDynamic()) return;
       const Vec3 d = positions.col(i) - s.center;
       const double dist = d.norm();
-      if (dist >= s.radius) continue;
+      if (dist >= s.radius) return;
       const Vec3 out = dist > 1e-12 ? Vec3(d / dist) : Vec3::UnitZ();
       positions.col(i) = s.center + s.radius * out;
-    }
+    });
     if (ground.enabled) positions(2, i) = std::max(positions(2, i), ground.height);
     if (positions.col(i) == before) continue;
     if (previous_positions != nullptr) previous_positions->col(i) += positions.col(i) - before;
