@@ -68,6 +68,7 @@ add_library(cloth_sim_core
   src/core/simulation/simulation_snapshot.cpp
   src/core/simulation/frame_budget.cpp
   src/core/simulation/step_controller.cpp
+  src/core/simulation/frame_error.cpp
   src/core/io/scene_fields.cpp
   src/core/io/scene_reader.cpp
   src/core/io/scene_bodies.cpp
@@ -120,7 +121,7 @@ if(CATKIN_ENABLE_TESTING)
     simulation/step_report_test simulation/grasp_set_test simulation/frame_inputs_test
     simulation/simulation_test simulation/substeps_test simulation/frame_budget_test
     simulation/live_limits_test
-    simulation/error_control_test
+    simulation/error_control_test simulation/frame_error_test
     simulation/grasp_test simulation/snapshot_test simulation/body_motion_test simulation/threads_test
     io/scene_test io/scene_bodies_test io/bad_scene_random_test
     settings/settings_table_test)

@@ -166,6 +166,7 @@ StepReport Simulation::runFrame(std::chrono::steady_clock::time_point t0, const 
   // Each substep's iterations stop at a share of its part of the frame's error tolerance.
   const double iteration_tolerance = kIterationShare * tolerance / n;
   const double frame_end = state_.time + options_.frame_time;
+  substep_.beginFrame(model_.particleCount());
   for (int k = 1; k <= n; ++k) {
     double hk = h;
     int last = k;

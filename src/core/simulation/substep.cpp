@@ -24,8 +24,11 @@ void SubstepPipeline::run(const SubstepWorld& world, const PinSet& pins, double 
     for (std::size_t i = 0; i < touched_before_.size() && i < skip.size(); ++i) {
       skip[i] |= touched_before_[i];
     }
-    report.error_estimate += localErrorEstimate(world.model, pins, state, older_velocities_,
-                                                older_step_, world.settings.integrator, skip);
+    if (localErrors(world.model, pins, state, older_velocities_, older_step_,
+                    world.settings.integrator, skip, step_errors_, estimated_)) {
+      frame_error_.add(step_errors_, estimated_);
+    }
+    report.error_estimate = frame_error_.rms();
   }
 }
 

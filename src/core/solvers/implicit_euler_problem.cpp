@@ -1,5 +1,6 @@
 #include "cloth_sim/core/solvers/implicit_euler_problem.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -83,17 +84,19 @@ ImplicitStepProblem ImplicitStepProblem::build(const Model& model, const PinSet&
   return p;
 }
 
-double localErrorEstimate(const Model& model, const PinSet& pins, const State& after,
-                          const Points& older_velocities, double older_step,
-                          Integrator integrator, const std::vector<char>& skip) {
+bool localErrors(const Model& model, const PinSet& pins, const State& after,
+                 const Points& older_velocities, double older_step, Integrator integrator,
+                 const std::vector<char>& skip, Points& errors, std::vector<char>& estimated) {
   const Eigen::Index n = after.positions.cols();
-  if (!after.has_previous || after.previous_step <= 0.0) return 0.0;
-  std::vector<char> free(static_cast<std::size_t>(n), 1);
+  errors.setZero(3, n);
+  estimated.assign(static_cast<std::size_t>(n), 0);
+  if (!after.has_previous || after.previous_step <= 0.0) return false;
+  std::fill(estimated.begin(), estimated.end(), 1);
   for (const Pin& pin : pins.pins()) {
-    if (pin.isHard()) free[pin.vertex] = 0;
+    if (pin.isHard()) estimated[pin.vertex] = 0;
   }
-  for (std::size_t i = 0; i < skip.size() && i < free.size(); ++i) {
-    if (skip[i]) free[i] = 0;
+  for (std::size_t i = 0; i < skip.size() && i < estimated.size(); ++i) {
+    if (skip[i]) estimated[i] = 0;
   }
   const double h = after.previous_step;
   const Points& x_n = after.previous_positions;
@@ -111,22 +114,17 @@ double localErrorEstimate(const Model& model, const PinSet& pins, const State& a
     weight = c * h * h * h * 2.0 / (h + older_step);
   }
   const double hq = h * std::exp(-model.damping * h);
-  double sum = 0.0;
-  int count = 0;
   for (Eigen::Index i = 0; i < n; ++i) {
-    if (!free[i]) continue;
-    Vec3 e;
+    if (!estimated[i]) continue;
     if (third_order) {
       const Vec3 slope_new = (after.velocities.col(i) - v_n.col(i)) / h;
       const Vec3 slope_old = (v_n.col(i) - older_velocities.col(i)) / older_step;
-      e = weight * (slope_new - slope_old);
+      errors.col(i) = weight * (slope_new - slope_old);
     } else {
-      e = 0.5 * (after.positions.col(i) - x_n.col(i) - hq * v_n.col(i));
+      errors.col(i) = 0.5 * (after.positions.col(i) - x_n.col(i) - hq * v_n.col(i));
     }
-    sum += e.squaredNorm();
-    ++count;
   }
-  return count > 0 ? std::sqrt(sum / count) : 0.0;
+  return true;
 }
 
 double externalPotential(const Model& model, const PinSet& pins, const Points& x) {

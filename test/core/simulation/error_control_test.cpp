@@ -90,7 +90,8 @@ TEST(StepController, SaysWhenTheMaximumCannotMeetTheTolerance) {
 struct Oscillator {
   double k = 40.0, m = 0.1, rest = 0.5, amplitude = 0.05;
   double omega() const { return std::sqrt(k / m); }
-  Simulation make(Integrator integrator, int substeps, double error_tolerance) const {
+  Simulation make(Integrator integrator, int substeps, double error_tolerance,
+                  double frame_time = 1.0 / 240.0) const {
     Model model;
     model.mass = Eigen::VectorXd::Constant(2, m);
     model.springs.add(0, 1, rest, k, SpringFamily::kStructural);
@@ -108,7 +109,7 @@ struct Oscillator {
     o.settings.max_iterations = 50;
     o.settings.tolerance = 1e-13;
     o.settings.error_tolerance = error_tolerance;
-    o.frame_time = 1.0 / 240.0;  // w h = 0.083: the leading terms of the error dominate
+    o.frame_time = frame_time;  // 1/240 s: w h = 0.083, the leading terms of the error dominate
     return Simulation(std::move(model), x, std::move(pins), Colliders(), o);
   }
 };
@@ -175,6 +176,39 @@ TEST(ErrorEstimate, WithinAFactorOfThreeOfTheTrueLocalErrorOfAnOscillator) {
     EXPECT_GT(estimated / true_error, 1.0 / 3.0) << integratorName(integrator);
     EXPECT_LT(estimated / true_error, 3.0) << integratorName(integrator);
     EXPECT_LT(worst_ratio, 3.0) << integratorName(integrator);
+  }
+}
+
+// The frame's estimate sums its substeps' errors per particle as vectors (FrameError). Along a
+// motion slower than the frame they point the same way and add up to the sum of their sizes;
+// over a vibration faster than the frame they turn with it and cancel.
+TEST(ErrorEstimate, AddsAlongASlowMotionAndCancelsOverAVibrationFasterThanTheFrame) {
+  const Oscillator osc;  // w = 20 rad/s
+  const double h = 1.0 / 960.0;
+  for (const int n : {8, 960}) {  // frames of w F = 0.17 rad and of 20 rad (3.2 periods)
+    // The same steps, one frame each: their own estimates, summed over each frame of n.
+    Simulation steps = osc.make(Integrator::kBdf2, 1, 1e-9, h);
+    Simulation frames = osc.make(Integrator::kBdf2, n, 1e-9, n * h);
+    double summed_sizes = 0.0, frame_estimates = 0.0;
+    for (int f = 0; f < 3; ++f) {
+      const StepReport r = frames.step();
+      ASSERT_EQ(r.status, StepStatus::kOk);
+      for (int k = 0; k < n; ++k) {
+        const StepReport one = steps.step();
+        if (f > 0) summed_sizes += one.error_estimate;  // BDF2's first steps start as Euler
+      }
+      if (f > 0) frame_estimates += r.error_estimate;
+    }
+    EXPECT_NEAR((steps.state().positions - frames.state().positions).norm(), 0.0, 1e-9);
+    const double ratio = frame_estimates / summed_sizes;
+    std::printf("[measured] %d substeps a frame (w F = %.2f rad): frame estimates / summed step "
+                "estimates %.3f\n", n, osc.omega() * n * h, ratio);
+    EXPECT_LE(ratio, 1.0 + 1e-9) << "never above the sum of the sizes";
+    if (n == 8) {
+      EXPECT_GT(ratio, 0.9) << "slow: they add";
+    } else {
+      EXPECT_LT(ratio, 0.2) << "fast: they cancel";
+    }
   }
 }
 

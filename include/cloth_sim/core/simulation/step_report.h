@@ -27,8 +27,8 @@ struct StepReport {
   /// m: the largest estimated iteration error of the frame's substeps (SolveResult::
   /// iteration_error; 0 without error control).
   double iteration_error = 0.0;
-  /// m: the frame's estimated local truncation error, summed over its substeps
-  /// (localErrorEstimate; 0 without error control).
+  /// m: the frame's estimated local truncation error: its substeps' errors summed per particle,
+  /// RMS over the particles (FrameError; 0 without error control).
   double error_estimate = 0.0;
   /// m: the error a frame may make (SolverSettings::error_tolerance; 0: no error control).
   double error_tolerance = 0.0;

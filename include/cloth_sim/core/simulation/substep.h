@@ -13,6 +13,7 @@
 #include "cloth_sim/core/linalg/types.h"
 #include "cloth_sim/core/model/model.h"
 #include "cloth_sim/core/model/pins.h"
+#include "cloth_sim/core/simulation/frame_error.h"
 #include "cloth_sim/core/simulation/step_report.h"
 #include "cloth_sim/core/solvers/pin_reactions.h"
 #include "cloth_sim/core/solvers/solver.h"
@@ -56,11 +57,14 @@ struct SubstepWorld {
 /// substep.
 class SubstepPipeline {
  public:
+  /// Starts a frame: the frame's error estimate (FrameError) from zero.
+  void beginFrame(Eigen::Index particles) { frame_error_.begin(particles); }
   /// One substep of @p h s with @p pins at @p revision (SolverInput), its iterations stopped at
   /// an estimated iteration error of @p iteration_tolerance m (0: the settings' count); adds its
   /// substep, iterations, convergence, iteration error, solve time, contacts, self-contacts and
-  /// midpoint fallback to @p report, and with @p estimate_error its local truncation error
-  /// (localErrorEstimate, m) to StepReport::error_estimate.
+  /// midpoint fallback to @p report, and with @p estimate_error adds its local truncation errors
+  /// (localErrors) to the frame's and sets StepReport::error_estimate to the frame's so far
+  /// (FrameError::rms, m).
   void run(const SubstepWorld& world, const PinSet& pins, double h, std::uint64_t revision,
            double iteration_tolerance, bool estimate_error, StepReport& report);
   /// Forgets the contact forces' warm start (a rollback or reset: it led there, or is stale).
@@ -85,6 +89,9 @@ class SubstepPipeline {
   /// Per particle: a contact touched it in this substep (touched_) or the one before
   /// (touched_before_); both are left out of the error estimate.
   std::vector<char> touched_, touched_before_;
+  FrameError frame_error_;         ///< the frame's summed local errors
+  Points step_errors_;             ///< m, the substep's local errors (reused buffer)
+  std::vector<char> estimated_;    ///< per particle, whether step_errors_ estimates it
 };
 
 }  // namespace cloth_sim

@@ -74,26 +74,28 @@ struct StepRecurrence {
   Vec3 inertial(const State& state, Eigen::Index i) const;
 };
 
-/// The local truncation error of the implicit step that ended at @p after (m), estimated from
-/// the step itself and its history, per particle, as the RMS over the particles that are not
-/// hard pinned (their motion is prescribed). docs/method.md, "Error control". The step's start
-/// is after's history (previous_positions x_n, previous_velocities v_n, previous_step h);
-/// @p older_velocities is v_{n-1} and @p older_step its step h_p (0: no history).
-///  - implicit Euler: |x_{n+1} - x_n - h q v_n| / 2 (= h^2 |a| / 2, the distance the step's
+/// The local truncation error of the implicit step that ended at @p after, estimated from the
+/// step itself and its history, per particle as a vector (m). docs/method.md, "Error control".
+/// The step's start is after's history (previous_positions x_n, previous_velocities v_n,
+/// previous_step h); @p older_velocities is v_{n-1} and @p older_step its step h_p (0: no
+/// history).
+///  - implicit Euler: (x_{n+1} - x_n - h q v_n) / 2 (= h^2 a / 2, the distance the step's
 ///    constant acceleration puts a particle beyond the exact quadratic);
-///  - BDF2 (variable step, omega = h / h_p): C(omega) h^3 |x'''|, C = (1 + omega)^2 /
+///  - BDF2 (variable step, omega = h / h_p): C(omega) h^3 x''', C = (1 + omega)^2 /
 ///    (6 omega (1 + 2 omega)) (2/9 at omega = 1), x''' from the second divided difference of
 ///    v_{n-1}, v_n, v_{n+1};
-///  - implicit midpoint: h^3 |x'''| / 12, x''' as for BDF2;
+///  - implicit midpoint: h^3 x''' / 12, x''' as for BDF2;
 ///  - without history (BDF2's first step is implicit Euler): implicit Euler's.
-/// 0 when @p after has no history (an explicit solver). @p integrator as configured; @p pins:
-/// the pins of the step (hard ones are left out). @p skip (empty, or one per particle):
-/// particles left out as well; Simulation leaves out those a contact touched in this step or
-/// the one before, whose velocity jumps there (an impact, a stop) and has no derivative to
-/// estimate: the error of contact is the contact model's, not the step size's.
-double localErrorEstimate(const Model& model, const PinSet& pins, const State& after,
-                          const Points& older_velocities, double older_step,
-                          Integrator integrator, const std::vector<char>& skip = {});
+/// @p errors (3 x N) gets each estimated particle's error and zero elsewhere; @p estimated (N)
+/// is 1 where a particle is estimated, 0 where it is hard pinned (its motion is prescribed) or
+/// in @p skip (empty, or one per particle): Simulation skips those a contact touched in this
+/// step or the one before, whose velocity jumps there (an impact, a stop) and has no
+/// derivative to estimate: the error of contact is the contact model's, not the step size's.
+/// @p integrator as configured; @p pins: the pins of the step. Returns false, with nothing
+/// estimated, when @p after has no history (an explicit solver).
+bool localErrors(const Model& model, const PinSet& pins, const State& after,
+                 const Points& older_velocities, double older_step, Integrator integrator,
+                 const std::vector<char>& skip, Points& errors, std::vector<char>& estimated);
 
 struct ImplicitStepProblem {
   const Model* model = nullptr;
