@@ -196,8 +196,10 @@ StepReport Simulation::runFrame(std::chrono::steady_clock::time_point t0, const 
   inputs_.endFrame(kept, pins_, grasps_, options_.frame_time, colliders_);
   if (options_.settings.automaticSubsteps()) {
     // A rolled-back frame says its error was too large for its substeps.
-    const StepController::Decision next =
-        controller_.next(n, kept ? report.error_estimate : std::numeric_limits<double>::infinity());
+    const double iterations =
+        report.substeps > 0 ? double(report.total_iterations) / report.substeps : 0.0;
+    const StepController::Decision next = controller_.next(
+        n, kept ? report.error_estimate : std::numeric_limits<double>::infinity(), iterations);
     substeps_ = next.substeps;
     report.tolerance_unreachable = next.capped;
   }

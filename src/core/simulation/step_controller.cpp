@@ -46,22 +46,32 @@ int StepController::rungBelow(int n) {
 
 void StepController::setMaxSubsteps(int max_substeps) { max_ = std::max(min_, max_substeps); }
 
-StepController::Decision StepController::next(int substeps, double error) {
+StepController::Decision StepController::next(int substeps, double error, double iterations) {
   Decision d;
   const int n = std::clamp(substeps, min_, max_);
   const double ratio = std::isfinite(error) ? std::max(0.0, error) / tolerance_ : 1e300;
+  // Slow iterations: one rung more makes the frame cheaper (the class comment).
+  const int faster = iterations > kSlowIterations ? std::min(rungAtLeast(n + 1), max_) : n;
   if (ratio > 1.0) {
     calm_frames_ = 0;
     const double wanted = n * std::pow(ratio / kSafety, 1.0 / order_);
     const double grown = std::min(wanted, double(n) * kMaxGrowth);
     const int rung = rungAtLeast(static_cast<int>(std::ceil(std::min(grown, 1e9))));
-    d.substeps = std::min(rung, max_);
+    d.substeps = std::max(std::min(rung, max_), faster);
     d.capped = wanted > max_;
     return d;
   }
-  d.substeps = n;
+  d.substeps = faster;
+  if (faster > n) {
+    calm_frames_ = 0;
+    return d;
+  }
   const int down = std::max(min_, rungBelow(n));
-  if (down < n && ratio * std::pow(double(n) / down, order_) < kDownShare) {
+  const double scale = double(n) / down;
+  const double excess = std::max(0.0, iterations - kLeastIterations);
+  const bool iterations_allow =
+      kLeastIterations + excess * std::pow(scale, kIterationExponent) <= kSlowIterations;
+  if (down < n && ratio * std::pow(scale, order_) < kDownShare && iterations_allow) {
     if (++calm_frames_ >= kPatience) {
       calm_frames_ = 0;
       d.substeps = down;

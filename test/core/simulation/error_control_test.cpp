@@ -82,6 +82,55 @@ TEST(StepController, SaysWhenTheMaximumCannotMeetTheTolerance) {
   EXPECT_GT(c.next(2, std::nan("")).substeps, 2);
 }
 
+// Iterations per substep that follow the law the rule assumes: the least, plus an excess that
+// falls as n^-kIterationExponent.
+double iterationLaw(int n) {
+  return StepController::kLeastIterations +
+         40.0 * std::pow(8.0 / n, StepController::kIterationExponent);
+}
+
+TEST(StepController, TakesMoreSubstepsWhileTheIterationsConvergeSlowly) {
+  const double tol = 1e-5;
+  StepController c(tol, 2, 1, 128);
+  // The error far under the tolerance at every count: only the iterations ask for substeps.
+  int n = 8, changes = 0;
+  for (int frame = 0; frame < 300; ++frame) {
+    const StepController::Decision d = c.next(n, 1e-3 * tol, iterationLaw(n));
+    EXPECT_FALSE(d.capped);
+    EXPECT_LE(d.substeps, StepController::rungAtLeast(n + 1)) << "one rung a frame";
+    if (d.substeps != n) ++changes;
+    n = d.substeps;
+  }
+  // It settles on the first rung whose iterations are under kSlowIterations, and stays there:
+  // the rung below would need more.
+  EXPECT_LE(iterationLaw(n), StepController::kSlowIterations);
+  EXPECT_GT(iterationLaw(StepController::rungBelow(n)), StepController::kSlowIterations);
+  EXPECT_LE(changes, 8) << "no flip-flop";
+  // Not past the maximum, and that is not a tolerance it cannot meet.
+  StepController small(tol, 2, 1, 16);
+  const StepController::Decision d = small.next(16, 1e-3 * tol, 50.0);
+  EXPECT_EQ(d.substeps, 16);
+  EXPECT_FALSE(d.capped);
+  // Over the tolerance, the larger of the two asks.
+  StepController both(tol, 2, 1, 128);
+  EXPECT_EQ(both.next(16, 1.01 * tol, 50.0).substeps, 24);   // the iterations' rung
+  EXPECT_EQ(both.next(16, 100.0 * tol, 3.0).substeps, 64);   // the estimate's
+}
+
+TEST(StepController, StepsDownAtTheLeastIterations) {
+  // At the least iterations a substep takes, the rung down is the estimate's to decide, as
+  // with no count at all.
+  const double tol = 1e-5;
+  StepController with(tol, 2, 1, 128), without(tol, 2, 1, 128);
+  int a = 64, b = 64;
+  for (int frame = 0; frame < 500; ++frame) {
+    a = with.next(a, 1e-4 * tol, StepController::kLeastIterations).substeps;
+    b = without.next(b, 1e-4 * tol).substeps;
+    ASSERT_EQ(a, b) << "frame " << frame;
+  }
+  EXPECT_LT(a, 64);
+}
+
 // --- the estimate against the known local error of a linear oscillator -------------------
 
 /// A particle on a spring of stiffness k to a hard-pinned one, no gravity, no damping,
