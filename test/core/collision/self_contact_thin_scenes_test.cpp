@@ -90,9 +90,8 @@ TEST(ThinSelfContact, RandomStripsSheetsBagsAndFolds) {
 TEST(ThinSelfContact, UnderErrorControlTheSubstepsChangeAndNothingCrosses) {
   // The same cases with no solver block: error control picks each frame's substeps (BDF2), so
   // self-contact runs on steps of changing size and the multistep integrator's history.
-  // The strip, and a strip, a bag and two folds of the random set: most frames take
-  // 128 substeps here, as without self-collision (the bag and the sheets would take
-  // minutes).
+  // The strip, and a strip, a bag and two folds of the random set, up to 48-128
+  // substeps a frame (the bag and the sheets would take minutes).
   const cases::Case strip = cases::underErrorControl(cases::strip(0.01));
   const Watch w = run(strip);
   expectClean(w, strip);
