@@ -47,7 +47,7 @@ TEST(FrameDeadline, NoSettingHoldsAFrameMuchLongerThanTheDeadline) {
                  std::to_string(c.iterations));
     Simulation sim = hanging(c.solver, c.substeps, c.iterations);
     sim.setFrameDeadline(kDeadline);
-    double worst = 0.0;
+    double worst = 0.0, longest_iteration = 0.0;
     StepReport last;
     for (int f = 0; f < 3; ++f) {
       const double t_before = sim.state().time;
@@ -56,7 +56,13 @@ TEST(FrameDeadline, NoSettingHoldsAFrameMuchLongerThanTheDeadline) {
       last = r;
       // The first frame also pays the one-time set-up (symbolic analysis, allocation), which no
       // deadline can cut; the node pays it at start.
-      if (f > 0) worst = std::max(worst, seconds(t0));
+      if (f > 0) {
+        worst = std::max(worst, seconds(t0));
+        // What no deadline can cut: the iteration running when it passes (newton's is a
+        // factorization; on a loaded machine it alone took 0.39 s). Its mean this frame.
+        longest_iteration =
+            std::max(longest_iteration, r.solve_time / std::max(1, r.total_iterations));
+      }
       EXPECT_TRUE(r.shortfall());
       EXPECT_EQ(r.status, StepStatus::kOk) << r.message;
       EXPECT_NEAR(sim.state().time - t_before, sim.frameTime(), 1e-12);  // the whole frame
@@ -66,7 +72,9 @@ TEST(FrameDeadline, NoSettingHoldsAFrameMuchLongerThanTheDeadline) {
                 "substeps run, %d cut, %d merged, %d iterations, solve %.3f s)\n",
                 c.solver, c.substeps, c.iterations, worst, kDeadline, last.substeps,
                 last.cut_substeps, last.merged_substeps, last.total_iterations, last.solve_time);
-    EXPECT_LT(worst, 0.5);  // the deadline plus one substep of one iteration, with slack
+    // The deadline, plus the iteration it interrupts and the merged rest of the frame (one
+    // more step), with slack.
+    EXPECT_LT(worst, 0.5 + 2.0 * longest_iteration);
   }
 }
 
