@@ -184,6 +184,7 @@ StepReport Simulation::runFrame(std::chrono::steady_clock::time_point t0, const 
     substep_.run(world, pins, hk, revision_, iteration_tolerance, tolerance > 0.0, report);
     if (last == n) break;
   }
+  if (tolerance > 0.0) report.error_estimate = substep_.frameErrorEstimate();
   report.max_strain = maxStrain(model_.springs, state_.positions);
   report.status = frameStatus(state_, colliders_, report.max_strain, options_.divergence_strain);
   const bool kept = report.status == StepStatus::kOk;

@@ -28,7 +28,6 @@ void SubstepPipeline::run(const SubstepWorld& world, const PinSet& pins, double 
                     world.settings.integrator, skip, step_errors_, estimated_)) {
       frame_error_.add(step_errors_, estimated_);
     }
-    report.error_estimate = frame_error_.rms();
   }
 }
 

@@ -59,12 +59,13 @@ class SubstepPipeline {
  public:
   /// Starts a frame: the frame's error estimate (FrameError) from zero.
   void beginFrame(Eigen::Index particles) { frame_error_.begin(particles); }
+  /// m: the frame's error estimate from the substeps run since beginFrame (FrameError::rms).
+  double frameErrorEstimate() const { return frame_error_.rms(); }
   /// One substep of @p h s with @p pins at @p revision (SolverInput), its iterations stopped at
   /// an estimated iteration error of @p iteration_tolerance m (0: the settings' count); adds its
   /// substep, iterations, convergence, iteration error, solve time, contacts, self-contacts and
   /// midpoint fallback to @p report, and with @p estimate_error adds its local truncation errors
-  /// (localErrors) to the frame's and sets StepReport::error_estimate to the frame's so far
-  /// (FrameError::rms, m).
+  /// (localErrors) to the frame's (frameErrorEstimate).
   void run(const SubstepWorld& world, const PinSet& pins, double h, std::uint64_t revision,
            double iteration_tolerance, bool estimate_error, StepReport& report);
   /// Forgets the contact forces' warm start (a rollback or reset: it led there, or is stale).
