@@ -90,6 +90,7 @@ ClothState toClothState(const Simulation& sim, const StepReport& report,
   s.total_iterations = report.total_iterations;
   s.iteration_error = report.iteration_error;
   s.error_estimate = report.error_estimate;
+  s.carried_iteration_error = report.carried_iteration_error;
   s.error_tolerance = report.error_tolerance;
   s.tolerance_unreachable = report.tolerance_unreachable;
   s.rejected_substeps = report.rejected_substeps;

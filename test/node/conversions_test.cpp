@@ -151,6 +151,8 @@ TEST(Conversions, ClothStateReportsTheStepAndTheSimulation) {
   EXPECT_EQ(s.iterations, sim.solverSettings().max_iterations);
   EXPECT_EQ(s.convergence, report.convergence);
   EXPECT_EQ(s.max_strain, report.max_strain);
+  EXPECT_EQ(s.error_estimate, report.error_estimate);
+  EXPECT_EQ(s.carried_iteration_error, report.carried_iteration_error);
   EXPECT_GT(s.step_wall_time, 0.0);
   EXPECT_EQ(s.energy, sim.totalEnergy());
   EXPECT_EQ(s.status, "ok");

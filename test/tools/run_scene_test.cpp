@@ -45,7 +45,7 @@ TEST(RunScene, WritesOneCsvRowPerStepAndTheFinalPositions) {
   EXPECT_EQ(table.rfind("step,time,wall_ms,solve_ms,iterations,convergence,converged,max_strain,"
                         "energy,contacts,status,self_contacts,intersections,self_contact_ms,"
                         "intersection_ms,substeps,total_iterations,iteration_error,error_estimate,"
-                        "rejected_substeps\n", 0), 0u);
+                        "rejected_substeps,carried_iteration_error\n", 0), 0u);
   EXPECT_NE(table.find("\n6,0.1,"), std::string::npos);
   EXPECT_NE(table.find(",3,"), std::string::npos);  // the iteration count took effect
   EXPECT_EQ(countLines(slurp(positions)), 1 + 32 * 32);

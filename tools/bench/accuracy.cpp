@@ -86,6 +86,7 @@ struct LocalError {
   int frame = 0;
   int substeps = 0;         ///< of that frame
   double estimate = 0.0;    ///< m, StepReport::error_estimate of the frame
+  double carried = 0.0;     ///< m, StepReport::carried_iteration_error of the frame
   double truth = 0.0;       ///< m, RMS over the free particles of (frame's result - true motion)
   double reference_error = 0.0;  ///< m, the true motion's own error (see trueFrame)
 };
@@ -188,13 +189,14 @@ Trajectory run(const SceneConfig& scene, const Config& config,
     Points truth;
     if (probed) truth = trueFrame(sim, *reference, probe->substeps, local.reference_error);
     const double start = now(), cpu_start = threadCpuNow();
-    double frame_estimate = 0.0;
+    double frame_estimate = 0.0, frame_carried = 0.0;
     int frame_substeps = 0;
     for (int s = 0; s < steps_per_frame; ++s) {
       const StepReport report = sim.step();
       if (report.status != StepStatus::kOk) ++t.rollbacks;
       frame_substeps += report.substeps;
       frame_estimate += report.error_estimate;
+      frame_carried += report.carried_iteration_error;
     }
     t.frame_ms.push_back(1e3 * (now() - start));
     t.frame_cpu_ms.push_back(1e3 * (threadCpuNow() - cpu_start));
@@ -204,6 +206,7 @@ Trajectory run(const SceneConfig& scene, const Config& config,
       local.frame = f;
       local.substeps = frame_substeps;
       local.estimate = frame_estimate;
+      local.carried = frame_carried;
       local.truth = freeRms(sim, sim.state().positions, truth);
       local_errors->push_back(local);
       ++next_probe;
@@ -430,7 +433,7 @@ void runAccuracy(const AccuracyOptions& o) {
          "estimate_sum\n";
   std::ofstream local_csv(o.out_dir + "/local_error.csv");
   local_csv << "case,solver,error_tolerance,frame,time,substeps,estimate,true_error,"
-               "reference_error\n";
+               "reference_error,carried_iteration_error\n";
   std::ofstream ref_csv(o.out_dir + "/accuracy_reference.csv");
   ref_csv << "case,particles,diagonal,reference,h_ref,time,floor_rms,floor_max,floor_com,energy,"
              "mean_strain,max_strain\n";
@@ -484,7 +487,7 @@ void runAccuracy(const AccuracyOptions& o) {
         for (const LocalError& e : local) {
           local_csv << c.name << ',' << cfg.name() << ',' << tolerance << ',' << e.frame << ','
                     << e.frame * frame << ',' << e.substeps << ',' << e.estimate << ','
-                    << e.truth << ',' << e.reference_error << '\n';
+                    << e.truth << ',' << e.reference_error << ',' << e.carried << '\n';
         }
         local_csv.flush();
         const std::string status = t.stopped ? "too_slow" : t.rollbacks > 0 ? "rolled_back" : "ok";

@@ -43,7 +43,8 @@ StepLog::StepLog(const std::string& path, Format format) : out_(&std::cout), for
   if (format_ == Format::kCsv) {
     *out_ << "step,time,wall_ms,solve_ms,iterations,convergence,converged,max_strain,energy,"
              "contacts,status,self_contacts,intersections,self_contact_ms,intersection_ms,substeps,"
-             "total_iterations,iteration_error,error_estimate,rejected_substeps\n";
+             "total_iterations,iteration_error,error_estimate,rejected_substeps,"
+             "carried_iteration_error\n";
   }
 }
 
@@ -79,7 +80,8 @@ void StepLog::write(const StepRecord& r) {
           << ", \"substeps\": " << s.substeps << ", \"total_iterations\": " << s.total_iterations
           << ", \"iteration_error\": " << number(s.iteration_error, true)
           << ", \"error_estimate\": " << number(s.error_estimate, true)
-          << ", \"rejected_substeps\": " << s.rejected_substeps << "}";
+          << ", \"rejected_substeps\": " << s.rejected_substeps
+          << ", \"carried_iteration_error\": " << number(s.carried_iteration_error, true) << "}";
   } else {
     *out_ << r.step << ',' << number(r.time, false) << ',' << number(1e3 * s.wall_time, false)
           << ',' << number(1e3 * s.solve_time, false) << ',' << s.iterations << ','
@@ -89,7 +91,8 @@ void StepLog::write(const StepRecord& r) {
           << ',' << number(1e3 * s.self_contact_time, false) << ','
           << number(1e3 * s.intersection_time, false) << ',' << s.substeps << ','
           << s.total_iterations << ',' << number(s.iteration_error, false) << ','
-          << number(s.error_estimate, false) << ',' << s.rejected_substeps << '\n';
+          << number(s.error_estimate, false) << ',' << s.rejected_substeps << ','
+          << number(s.carried_iteration_error, false) << '\n';
   }
   first_ = false;
 }

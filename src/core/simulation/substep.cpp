@@ -113,6 +113,10 @@ SolveResult SubstepPipeline::solve(const SubstepWorld& world, const SolverInput&
   report.iterations = solved.iterations;
   report.total_iterations += solved.iterations;
   report.iteration_error = std::max(report.iteration_error, solved.iteration_error);
+  // Each earlier substep's iteration error moves the cloth once more in this one (StepReport::
+  // carried_iteration_error): the sum over substeps of the errors so far.
+  iteration_errors_ += solved.iteration_error;
+  report.carried_iteration_error += iteration_errors_;
   report.convergence = solved.convergence;
   report.converged = solved.converged;
   if (solved.midpoint_fallback) ++report.midpoint_fallbacks;

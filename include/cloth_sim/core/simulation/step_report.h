@@ -30,6 +30,15 @@ struct StepReport {
   /// m: the frame's estimated local truncation error: its substeps' errors summed per particle,
   /// RMS over the particles (FrameError; 0 without error control).
   double error_estimate = 0.0;
+  /// m: the frame's iteration errors carried to its end, sum over its substeps i = 1..n of
+  /// (n - i + 1) e_i with e_i the substep's iteration_error. A position error e left by a
+  /// substep's iterations is also a velocity error e / h, which moves the cloth by e again in
+  /// each substep after it (the slow modes the iterations leave are those the implicit step does
+  /// not damp), so the frame ends (n - i + 1) e_i off. The error controller does not use it
+  /// (the substeps do not reduce it: the iteration stop does); error_estimate +
+  /// carried_iteration_error is the frame's whole estimated error (docs/method.md, "Error
+  /// control"). 0 where the substeps' iteration_error is.
+  double carried_iteration_error = 0.0;
   /// m: the error a frame may make (SolverSettings::error_tolerance; 0: no error control).
   double error_tolerance = 0.0;
   /// The error tolerance needs more substeps than allowed (the maximum, or a frame budget):

@@ -57,8 +57,11 @@ struct SubstepWorld {
 /// substep.
 class SubstepPipeline {
  public:
-  /// Starts a frame: the frame's error estimate (FrameError) from zero.
-  void beginFrame(Eigen::Index particles) { frame_error_.begin(particles); }
+  /// Starts a frame: the frame's error estimate (FrameError) and its iteration errors from zero.
+  void beginFrame(Eigen::Index particles) {
+    frame_error_.begin(particles);
+    iteration_errors_ = 0.0;
+  }
   /// m: the frame's error estimate from the substeps run since beginFrame (FrameError::rms).
   double frameErrorEstimate() const { return frame_error_.rms(); }
   /// One substep of @p h s with @p pins at @p revision (SolverInput), its iterations stopped at
@@ -91,6 +94,7 @@ class SubstepPipeline {
   /// (touched_before_); both are left out of the error estimate.
   std::vector<char> touched_, touched_before_;
   FrameError frame_error_;         ///< the frame's summed local errors
+  double iteration_errors_ = 0.0;  ///< m, the frame's substeps' iteration errors summed so far
   Points step_errors_;             ///< m, the substep's local errors (reused buffer)
   std::vector<char> estimated_;    ///< per particle, whether step_errors_ estimates it
 };
