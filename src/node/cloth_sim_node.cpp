@@ -425,6 +425,7 @@ void ClothSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status)
   in.iterations = sim_.solverSettings().max_iterations;
   in.error_tolerance = sim_.solverSettings().error_tolerance;
   in.error_estimate = last_report_.error_estimate;
+  in.carried_iteration_error = last_report_.carried_iteration_error;
   in.tolerance_unreachable = last_report_.tolerance_unreachable;
   in.frame_budget = budget_ ? budget_->budget() : 0.0;
   in.window = monitor_.takeWindow();

@@ -40,6 +40,8 @@ DiagnosticsReport diagnosticsReport(const DiagnosticsInput& in) {
   add("error tolerance (m)", metres);
   std::snprintf(metres, sizeof metres, "%.3g", in.error_estimate);
   add("error estimate (m)", metres);
+  std::snprintf(metres, sizeof metres, "%.3g", in.carried_iteration_error);
+  add("iteration error carried (m)", metres);
   add("step budget (ms)", fixed3(1e3 * w.budget));
   add("mean step time (ms)", fixed3(1e3 * w.mean_time));
   add("max step time (ms)", fixed3(1e3 * w.max_time));

@@ -46,6 +46,7 @@ TEST(DiagnosticsReport, AHealthyWindowIsOkWithEveryValueInOrder) {
                               "iterations per substep",
                               "error tolerance (m)",
                               "error estimate (m)",
+                              "iteration error carried (m)",
                               "step budget (ms)",
                               "mean step time (ms)",
                               "max step time (ms)",
@@ -124,12 +125,14 @@ TEST(DiagnosticsReport, AToleranceOutOfReachWarnsAndSaysSo) {
   DiagnosticsInput in = healthy();
   in.error_tolerance = 1e-5;
   in.error_estimate = 4e-5;
+  in.carried_iteration_error = 2.5e-4;
   in.tolerance_unreachable = true;
   const DiagnosticsReport r = diagnosticsReport(in);
   EXPECT_EQ(r.level, Health::kWarn);
   EXPECT_NE(r.message.find("error tolerance needs more substeps"), std::string::npos) << r.message;
   EXPECT_EQ(valueOf(r, "error tolerance (m)"), "1e-05");
   EXPECT_EQ(valueOf(r, "error estimate (m)"), "4e-05");
+  EXPECT_EQ(valueOf(r, "iteration error carried (m)"), "0.00025");
   in.tolerance_unreachable = false;
   EXPECT_EQ(diagnosticsReport(in).level, Health::kOk);
 }

@@ -39,6 +39,8 @@ struct DiagnosticsInput {
   int iterations = 0;                           ///< per substep
   double error_tolerance = 0.0;                 ///< m per frame (0: fixed substeps and iterations)
   double error_estimate = 0.0;                  ///< m, the last frame's (StepReport::error_estimate)
+  /// m, the last frame's iteration errors carried to its end (StepReport::carried_iteration_error)
+  double carried_iteration_error = 0.0;
   bool tolerance_unreachable = false;           ///< StepReport::tolerance_unreachable
   double frame_budget = 0.0;                    ///< s, ~budget_ms (0 = off)
   StepWindow window;                            ///< StepMonitor::takeWindow()
