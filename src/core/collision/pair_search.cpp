@@ -6,6 +6,8 @@
 #include <numeric>
 #include <cstdint>
 
+#include "cloth_sim/core/linalg/parallel.h"
+
 namespace cloth_sim {
 namespace {
 
@@ -14,6 +16,10 @@ namespace {
 constexpr double kFlatCosine = 0.5;
 /// Triangles per leaf at most: the last levels of the tree cost more to walk than to test.
 constexpr int kLeafSize = 4;
+/// With threads, the walk is cut into about this many jobs (at most kSplitLevels levels from
+/// the root), so that two threads finish together although the tasks' work differs.
+constexpr int kJobs = 64;
+constexpr int kSplitLevels = 12;
 
 /// Adds unit(@p n) to @p box (a zero vector adds nothing).
 void extendUnit(Eigen::AlignedBox3d& box, const Vec3& n) {
@@ -97,7 +103,7 @@ PairSearch::PairSearch(const SurfaceTopology& topology, const Points& rest) {
 }
 
 bool PairSearch::sharesVertex(const SurfaceTopology& topology, int a_begin, int a_end,
-                              int b_begin, int b_end) {
+                              int b_begin, int b_end, std::vector<char>& mark_) const {
   const Eigen::Matrix3Xi& tri = topology.triangles();
   for (int k = a_begin; k < a_end; ++k) {
     for (int i = 0; i < 3; ++i) mark_[tri(i, order_[k])] = 1;
@@ -124,7 +130,7 @@ int PairSearch::build(const SurfaceTopology& topology, int begin, int end, const
     int in = 1;
     for (int pass = 0; pass < kLeafSize && in < leaf.count; ++pass) {
       for (int k = begin + in; k < end; ++k) {
-        if (sharesVertex(topology, begin, begin + in, k, k + 1)) {
+        if (sharesVertex(topology, begin, begin + in, k, k + 1, mark_)) {
           std::swap(order_[begin + in], order_[k]);
           ++in;
         }
@@ -147,36 +153,58 @@ int PairSearch::build(const SurfaceTopology& topology, int begin, int end, const
   // One piece when both halves are and they share a vertex (conservative: a half in two pieces
   // joined through the other half counts as two).
   nodes_[index].connected = nodes_[left].connected && nodes_[right].connected &&
-                            sharesVertex(topology, begin, mid, mid, end);
+                            sharesVertex(topology, begin, mid, mid, end, mark_);
   return index;
 }
 
-void PairSearch::refit(const SurfaceTopology& topology, const Points& start, const Points& end) {
+void PairSearch::refitNormals(const SurfaceTopology& topology, const Points& start,
+                              const Points& end) {
   const Eigen::Matrix3Xi& tri = topology.triangles();
-  box_.resize(nodes_.size());
-  size_.resize(nodes_.size());
   normals_.resize(nodes_.size());
-  flat_.resize(nodes_.size());
-  tight_box_.resize(order_.size());
-  vertex_nodes_.resize(nodes_.size());
-  owned_box_.resize(order_.size());
-  if (cull_flat_) {  // the normals serve only to skip flat patches
-    triangle_normals_.resize(order_.size());
-    for (int t = 0; t < static_cast<int>(order_.size()); ++t) {
-      const int a = tri(0, t), b = tri(1, t), c = tri(2, t);
-      const Vec3 e1s = start.col(b) - start.col(a), e2s = start.col(c) - start.col(a);
-      const Vec3 e1e = end.col(b) - end.col(a), e2e = end.col(c) - end.col(a);
-      Eigen::AlignedBox3d normals;
-      extendUnit(normals, e1s.cross(e2s));
-      extendUnit(normals, e1e.cross(e2e));
-      extendUnit(normals, e1s.cross(e2e) + e1e.cross(e2s));
-      triangle_normals_[t] = normals;
-    }
+  flat_.assign(nodes_.size(), 0);
+  if (!cull_flat_) return;  // the normals serve only to skip flat patches
+  triangle_normals_.resize(order_.size());
+  for (int t = 0; t < static_cast<int>(order_.size()); ++t) {
+    const int a = tri(0, t), b = tri(1, t), c = tri(2, t);
+    const Vec3 e1s = start.col(b) - start.col(a), e2s = start.col(c) - start.col(a);
+    const Vec3 e1e = end.col(b) - end.col(a), e2e = end.col(c) - end.col(a);
+    Eigen::AlignedBox3d normals;
+    extendUnit(normals, e1s.cross(e2s));
+    extendUnit(normals, e1e.cross(e2e));
+    extendUnit(normals, e1s.cross(e2e) + e1e.cross(e2s));
+    triangle_normals_[t] = normals;
   }
   for (int k = static_cast<int>(nodes_.size()) - 1; k >= 0; --k) {
     const Node& node = nodes_[k];
-    Eigen::AlignedBox3d box, normals, vertices;
+    Eigen::AlignedBox3d normals;
     if (node.count > 0) {
+      for (int j = node.first; j < node.first + node.count; ++j) {
+        normals.extend(triangle_normals_[order_[j]]);
+      }
+      // The leaf's ring too: a triangle folded over just outside the leaf lets two of its
+      // triangles that share only a vertex lie on top of each other with their own normals up.
+      for (int r = ring_start_[k]; r < ring_start_[k + 1]; ++r) {
+        normals.extend(triangle_normals_[ring_[r]]);
+      }
+    } else {
+      normals = normals_[node.left].merged(normals_[node.right]);
+    }
+    normals_[k] = normals;
+    flat_[k] = node.connected && flat(normals);
+  }
+}
+
+void PairSearch::refitBoxes(const SurfaceTopology& topology) {
+  box_.resize(nodes_.size());
+  size_.resize(nodes_.size());
+  tight_box_.resize(order_.size());
+  vertex_nodes_.resize(nodes_.size());
+  owned_box_.resize(order_.size());
+  for (int k = static_cast<int>(nodes_.size()) - 1; k >= 0; --k) {
+    const Node& node = nodes_[k];
+    Eigen::AlignedBox3d box;
+    if (node.count > 0) {
+      Eigen::AlignedBox3d vertices;
       for (int j = node.first; j < node.first + node.count; ++j) {
         const int t = order_[j];
         tight_box_[j] = FloatBox::outside(triangle_box_[t]);
@@ -188,28 +216,17 @@ void PairSearch::refit(const SurfaceTopology& topology, const Points& start, con
         }
         owned_box_[j] = FloatBox::outside(owned);
         vertices.extend(owned);
-        if (cull_flat_) normals.extend(triangle_normals_[t]);
       }
-      // The leaf's ring too: a triangle folded over just outside the leaf lets two of its
-      // triangles that share only a vertex lie on top of each other with their own normals up.
-      if (cull_flat_) {
-        for (int r = ring_start_[k]; r < ring_start_[k + 1]; ++r) {
-          normals.extend(triangle_normals_[ring_[r]]);
-        }
-      }
+      vertex_nodes_[k] = FloatBox::outside(vertices);
     } else {
       box = Eigen::AlignedBox3d(Vec3(box_[node.left].lo[0], box_[node.left].lo[1], box_[node.left].lo[2]),
                                 Vec3(box_[node.left].hi[0], box_[node.left].hi[1], box_[node.left].hi[2]));
       box.extend(Vec3(box_[node.right].lo[0], box_[node.right].lo[1], box_[node.right].lo[2]));
       box.extend(Vec3(box_[node.right].hi[0], box_[node.right].hi[1], box_[node.right].hi[2]));
-      normals = normals_[node.left].merged(normals_[node.right]);
       vertex_nodes_[k] = vertex_nodes_[node.left].merged(vertex_nodes_[node.right]);
     }
-    if (node.count > 0) vertex_nodes_[k] = FloatBox::outside(vertices);
     box_[k] = FloatBox::outside(box);
     size_[k] = static_cast<float>(box.sizes().maxCoeff());
-    normals_[k] = normals;
-    flat_[k] = node.connected && flat(normals);
   }
 }
 
@@ -220,6 +237,8 @@ void PairSearch::find(const SurfaceTopology& topology, const Points& start, cons
   out.clear();
   triangle_pairs_ = vertex_pairs_ = 0;
   if (nodes_.empty()) return;
+  refitNormals(topology, start, end);
+  if (cull_flat_ && flat_[0]) return;  // one flat piece: no pair, so no box is needed
   const int n_vertices = static_cast<int>(start.cols());
   // Triangles and edges grow by half the edge reach; a vertex by the rest of its reach, so that
   // its box meets a triangle's when their paths come within reach.
@@ -243,94 +262,183 @@ void PairSearch::find(const SurfaceTopology& topology, const Points& start, cons
     triangle_box_[t] =
         path_box_[tri(0, t)].merged(path_box_[tri(1, t)]).merged(path_box_[tri(2, t)]);
   }
-  refit(topology, start, end);
+  refitBoxes(topology);
   topology_ = &topology;
-  out_ = &out;
-  self(0);
+  walk(out);
   topology_ = nullptr;
-  out_ = nullptr;
 }
 
-void PairSearch::self(int node) {
+void PairSearch::walk(std::vector<PairCandidate>& out) {
+  // The recursion from the root, cut into jobs in the order it would visit them: each job lists
+  // the pairs the recursion lists at its place, so joining the jobs' lists in order gives the
+  // serial list, on any number of threads.
+  jobs_.assign(1, Job{Job::kSelf, 0, 0, kAll});
+  if (threads_ > 1) {
+    std::vector<Job> next;
+    for (int level = 0; level < kSplitLevels && static_cast<int>(jobs_.size()) < kJobs; ++level) {
+      next.clear();
+      for (const Job& job : jobs_) split(job, next);
+      jobs_.swap(next);
+    }
+  }
+  const int count = static_cast<int>(jobs_.size());
+  if (static_cast<int>(tasks_.size()) < count) tasks_.resize(count);
+  for (int k = 0; k < count; ++k) {
+    Task& task = tasks_[k];
+    task.out.clear();
+    task.learned.clear();
+    task.triangle_pairs = task.vertex_pairs = 0;
+    if (task.mark.size() != mark_.size()) task.mark.assign(mark_.size(), 0);
+  }
+  parallelFor(threads_, count, [&](int k) {
+    const Job& job = jobs_[k];
+    if (job.kind == Job::kSelf) {
+      self(job.a, tasks_[k]);
+    } else {
+      cross(job.a, job.b, job.tests, tasks_[k]);
+    }
+  }, 2);
+  std::size_t total = 0;
+  for (int k = 0; k < count; ++k) total += tasks_[k].out.size();
+  out.reserve(total);
+  for (int k = 0; k < count; ++k) {
+    const Task& task = tasks_[k];
+    out.insert(out.end(), task.out.begin(), task.out.end());
+    triangle_pairs_ += task.triangle_pairs;
+    vertex_pairs_ += task.vertex_pairs;
+    adjacent_.insert(task.learned.begin(), task.learned.end());
+  }
+}
+
+void PairSearch::split(const Job& job, std::vector<Job>& next) {
+  // One level of self or cross as they recurse: what they skip is dropped, a leaf or a pair of
+  // leaves stays one job.
+  if (job.kind == Job::kSelf) {
+    const Node& n = nodes_[job.a];
+    if (cull_flat_ && flat_[job.a]) return;
+    if (n.count > 0) {
+      next.push_back(job);
+      return;
+    }
+    next.push_back({Job::kSelf, n.left, 0, kAll});
+    next.push_back({Job::kSelf, n.right, 0, kAll});
+    next.push_back({Job::kCross, n.left, n.right, kAll});
+    return;
+  }
+  const int a = job.a, b = job.b;
+  const unsigned tests = remainingTests(a, b, job.tests);
+  if (tests == 0) return;
+  if (cull_flat_ && flatTogether(a, b, nullptr)) return;
+  const Node &na = nodes_[a], &nb = nodes_[b];
+  if (na.count > 0 && nb.count > 0) {
+    next.push_back({Job::kCross, a, b, tests});
+  } else if (descendsFirst(a, b)) {
+    next.push_back({Job::kCross, na.left, b, tests});
+    next.push_back({Job::kCross, na.right, b, tests});
+  } else {
+    next.push_back({Job::kCross, a, nb.left, tests});
+    next.push_back({Job::kCross, a, nb.right, tests});
+  }
+}
+
+void PairSearch::self(int node, Task& task) {
   const Node& n = nodes_[node];
   if (cull_flat_ && flat_[node]) return;
   if (n.count > 0) {
     for (int i = n.first; i < n.first + n.count; ++i) {
-      for (int j = i + 1; j < n.first + n.count; ++j) leafPair(i, j, kAll);
+      for (int j = i + 1; j < n.first + n.count; ++j) leafPair(i, j, kAll, task);
     }
     return;
   }
-  self(n.left);
-  self(n.right);
-  cross(n.left, n.right, kAll);
+  self(n.left, task);
+  self(n.right, task);
+  cross(n.left, n.right, kAll, task);
 }
 
-void PairSearch::cross(int a, int b, unsigned tests) {
+unsigned PairSearch::remainingTests(int a, int b, unsigned tests) const {
   // Drop the tests whose boxes no longer meet: they cannot meet below either.
   if ((tests & kEdges) && !box_[a].overlaps(box_[b])) tests &= ~kEdges;
   if ((tests & kVerticesOfA) && !vertex_nodes_[a].overlaps(box_[b])) tests &= ~kVerticesOfA;
   if ((tests & kVerticesOfB) && !vertex_nodes_[b].overlaps(box_[a])) tests &= ~kVerticesOfB;
+  return tests;
+}
+
+bool PairSearch::descendsFirst(int a, int b) const {
+  // The larger node (a leaf cannot be split).
+  const Node &na = nodes_[a], &nb = nodes_[b];
+  return nb.count > 0 || (na.count == 0 && size_[a] >= size_[b]);
+}
+
+void PairSearch::cross(int a, int b, unsigned tests, Task& task) {
+  tests = remainingTests(a, b, tests);
   if (tests == 0) return;
-  if (cull_flat_ && flatTogether(a, b)) return;
+  if (cull_flat_ && flatTogether(a, b, &task)) return;
   const Node &na = nodes_[a], &nb = nodes_[b];
   if (na.count > 0 && nb.count > 0) {
     for (int i = na.first; i < na.first + na.count; ++i) {
-      for (int j = nb.first; j < nb.first + nb.count; ++j) leafPair(i, j, tests);
+      for (int j = nb.first; j < nb.first + nb.count; ++j) leafPair(i, j, tests, task);
     }
     return;
   }
-  // Descend the larger node (a leaf cannot be split).
-  if (nb.count > 0 || (na.count == 0 && size_[a] >= size_[b])) {
-    cross(na.left, b, tests);
-    cross(na.right, b, tests);
+  if (descendsFirst(a, b)) {
+    cross(na.left, b, tests, task);
+    cross(na.right, b, tests, task);
   } else {
-    cross(a, nb.left, tests);
-    cross(a, nb.right, tests);
+    cross(a, nb.left, tests, task);
+    cross(a, nb.right, tests, task);
   }
 }
 
-bool PairSearch::flatTogether(int a, int b) {
+bool PairSearch::flatTogether(int a, int b, Task* task) {
   if (!flat_[a] || !flat_[b] || !flat(normals_[a].merged(normals_[b]))) return false;
   // One piece when each is and they share a vertex: asked once per pair of nodes (the mesh does
   // not change), and only of pairs whose normals would let them be skipped.
   const std::uint64_t key = static_cast<std::uint64_t>(std::min(a, b)) * nodes_.size() +
                             static_cast<std::uint64_t>(std::max(a, b));
+  // The shared cache is only read while tasks run; a task keeps what it learns until the join.
   const auto known = adjacent_.find(key);
   if (known != adjacent_.end()) return known->second;
   const Node &na = nodes_[a], &nb = nodes_[b];
-  const bool adjacent = sharesVertex(*topology_, na.first, na.last, nb.first, nb.last);
-  adjacent_.emplace(key, adjacent);
+  if (task == nullptr) {
+    const bool adjacent = sharesVertex(*topology_, na.first, na.last, nb.first, nb.last, mark_);
+    adjacent_.emplace(key, adjacent);
+    return adjacent;
+  }
+  const auto learned = task->learned.find(key);
+  if (learned != task->learned.end()) return learned->second;
+  const bool adjacent = sharesVertex(*topology_, na.first, na.last, nb.first, nb.last, task->mark);
+  task->learned.emplace(key, adjacent);
   return adjacent;
 }
 
-void PairSearch::leafPair(int i, int j, unsigned tests) {
+void PairSearch::leafPair(int i, int j, unsigned tests, Task& task) const {
   const SurfaceTopology& topology = *topology_;
   const int a = order_[i], b = order_[j];
   if ((tests & kEdges) && tight_box_[i].overlaps(tight_box_[j])) {
-    ++triangle_pairs_;
+    ++task.triangle_pairs;
     for (const int* e = topology.ownedEdgesBegin(a); e != topology.ownedEdgesEnd(a); ++e) {
       const auto& ea = topology.edge(*e);
       for (const int* f = topology.ownedEdgesBegin(b); f != topology.ownedEdgesEnd(b); ++f) {
         const auto& eb = topology.edge(*f);
         if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
         if (!edge_box_[*e].intersects(edge_box_[*f])) continue;
-        out_->push_back({PairKind::kEdgeEdge, {ea[0], ea[1], eb[0], eb[1]}});
+        task.out.push_back({PairKind::kEdgeEdge, {ea[0], ea[1], eb[0], eb[1]}});
       }
     }
   }
-  if ((tests & kVerticesOfA) && owned_box_[i].overlaps(tight_box_[j])) vertexTriangle(a, b);
-  if ((tests & kVerticesOfB) && owned_box_[j].overlaps(tight_box_[i])) vertexTriangle(b, a);
+  if ((tests & kVerticesOfA) && owned_box_[i].overlaps(tight_box_[j])) vertexTriangle(a, b, task);
+  if ((tests & kVerticesOfB) && owned_box_[j].overlaps(tight_box_[i])) vertexTriangle(b, a, task);
 }
 
-void PairSearch::vertexTriangle(int owner, int other) {
+void PairSearch::vertexTriangle(int owner, int other, Task& task) const {
   const SurfaceTopology& topology = *topology_;
   const Eigen::Matrix3Xi& tri = topology.triangles();
   const Eigen::AlignedBox3d& other_box = triangle_box_[other];
   for (const int* v = topology.ownedVerticesBegin(owner); v != topology.ownedVerticesEnd(owner);
        ++v) {
     if (topology.triangleHas(other, *v) || !vertex_box_[*v].intersects(other_box)) continue;
-    ++vertex_pairs_;
-    out_->push_back({PairKind::kVertexTriangle, {*v, tri(0, other), tri(1, other), tri(2, other)}});
+    ++task.vertex_pairs;
+    task.out.push_back({PairKind::kVertexTriangle, {*v, tri(0, other), tri(1, other), tri(2, other)}});
   }
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cloth_sim/core/collision/contour_untangling.h"
+#include "cloth_sim/core/linalg/parallel.h"
 
 namespace cloth_sim {
 namespace {
@@ -88,15 +89,19 @@ void TriangleSelfContact::findContacts(const CollisionStep& step, const Points& 
   search_.find(topology_, step.start, end, vertex_reach, edge_reach, candidates_);
   ++last_.searches;
   last_.triangle_pairs += search_.trianglePairs() + search_.vertexPairs();
-  contacts_.clear();
-  skip_.clear();
-  for (std::size_t i = 0; i < candidates_.size(); ++i) addContact(step, candidates_[i]);
+  contacts_.resize(candidates_.size());
+  skip_.resize(candidates_.size());
+  const BlockSplit split(candidates_.size(), 2048);
+  parallelFor(threads_, split.blocks(), [&](int b) {
+    for (std::size_t i = split.begin(b); i < split.end(b); ++i) setContact(step, i);
+  });
+  last_.candidates += static_cast<long>(candidates_.size());
 }
 
-void TriangleSelfContact::addContact(const CollisionStep& step, const PairCandidate& pair) {
+void TriangleSelfContact::setContact(const CollisionStep& step, std::size_t index) {
   const double t = thickness_;
   PairContact c;
-  c.pair = pair;
+  c.pair = candidates_[index];
   const ClosestPoints cp = closestPoints(c.pair.kind, pairPoints(c.pair, step.start));
   c.weight = cp.weight;
   c.start_distance = cp.distance;
@@ -114,9 +119,8 @@ void TriangleSelfContact::addContact(const CollisionStep& step, const PairCandid
         tangled_vertex_[v[3]] || tangled_vertex_[v[2]] || (vt && tangled_vertex_[v[1]]);
     skip = first && second;
   }
-  contacts_.push_back(c);
-  skip_.push_back(skip);
-  ++last_.candidates;
+  contacts_[index] = c;
+  skip_[index] = skip;
 }
 
 int TriangleSelfContact::resolve(const CollisionStep& step, const GroundPlane& ground, Points& end,

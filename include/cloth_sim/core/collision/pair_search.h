@@ -65,6 +65,9 @@ class PairSearch {
   void find(const SurfaceTopology& topology, const Points& start, const Points& end, double reach,
             double edge_reach, std::vector<PairCandidate>& out, bool cull_flat = true);
 
+  /// Threads of the tree walk (>= 1; its list is the same on any number).
+  void setThreads(int threads) { threads_ = threads; }
+
   /// Triangle pairs whose boxes overlapped in the last find (for the benchmark).
   long trianglePairs() const { return triangle_pairs_; }
   /// Vertex-triangle pairs listed by the last find.
@@ -96,25 +99,51 @@ class PairSearch {
   };
   int build(const SurfaceTopology& topology, int begin, int end, const Points& centroids);
   /// Whether a triangle of order_[a_begin, a_end) shares a vertex with one of [b_begin, b_end).
+  /// @p mark: one zero per vertex (left so).
   bool sharesVertex(const SurfaceTopology& topology, int a_begin, int a_end, int b_begin,
-                    int b_end);
-  void refit(const SurfaceTopology& topology, const Points& start, const Points& end);
-  /// The pairs within node @p node (none when it is flat).
-  void self(int node);
+                    int b_end, std::vector<char>& mark) const;
+  /// Each triangle's normals over the motion start -> end, each node's normal box and flat_
+  /// (no node is flat unless cull_flat_).
+  void refitNormals(const SurfaceTopology& topology, const Points& start, const Points& end);
+  /// Each node's boxes from the triangles' and vertices' (triangle_box_, vertex_box_).
+  void refitBoxes(const SurfaceTopology& topology);
   /// Which pairs of two nodes are still to be found: edges of both, vertices of the first with
   /// triangles of the second, and the other way round.
   static constexpr unsigned kEdges = 1, kVerticesOfA = 2, kVerticesOfB = 4, kAll = 7;
+  /// A piece of the walk: the pairs within node a, or those of @p tests between nodes a and b.
+  struct Job {
+    enum Kind { kSelf, kCross } kind;
+    int a, b;
+    unsigned tests;
+  };
+  /// What a job lists, and its scratch (a thread's own).
+  struct Task {
+    std::vector<PairCandidate> out;
+    long triangle_pairs = 0, vertex_pairs = 0;
+    std::vector<char> mark;  ///< one per vertex, for sharesVertex
+    std::unordered_map<std::uint64_t, bool> learned;  ///< adjacencies to add to adjacent_
+  };
+  /// The walk from the root into @p out: cut into jobs (split) run on threads_, joined in order.
+  void walk(std::vector<PairCandidate>& out);
+  /// Appends to @p next the jobs @p job recurses into (itself when it is a leaf or two).
+  void split(const Job& job, std::vector<Job>& next);
+  /// The pairs within node @p node (none when it is flat).
+  void self(int node, Task& task);
+  /// @p tests less those whose boxes do not meet between nodes @p a and @p b.
+  unsigned remainingTests(int a, int b, unsigned tests) const;
+  /// Whether cross descends into @p a (the larger; a leaf cannot be split) rather than @p b.
+  bool descendsFirst(int a, int b) const;
   /// The pairs of @p tests between nodes @p a and @p b.
-  void cross(int a, int b, unsigned tests);
+  void cross(int a, int b, unsigned tests, Task& task);
   /// Whether nodes @p a and @p b are flat (flat_) and together one flat piece: their normals
   /// within the flat cone of one direction, and sharing a vertex. Such a pair is skipped as a
-  /// flat node is.
-  bool flatTogether(int a, int b);
+  /// flat node is. @p task: where a running job keeps what it learns (nullptr: serial).
+  bool flatTogether(int a, int b, Task* task);
   /// The pairs of @p tests between the triangles in slots @p i and @p j: the edges each owns,
   /// the vertices of one against the other.
-  void leafPair(int i, int j, unsigned tests);
+  void leafPair(int i, int j, unsigned tests, Task& task) const;
   /// Vertex-triangle pairs of the vertices triangle @p owner owns with triangle @p other.
-  void vertexTriangle(int owner, int other);
+  void vertexTriangle(int owner, int other, Task& task) const;
 
   std::vector<Node> nodes_;  ///< preorder: a parent before its children
   std::vector<int> order_;   ///< the triangles, leaf by leaf
@@ -137,7 +166,9 @@ class PairSearch {
   /// and each triangle's path grown by half the edge reach.
   std::vector<Eigen::AlignedBox3d> path_box_, vertex_box_, edge_box_, triangle_box_;
   const SurfaceTopology* topology_ = nullptr;  ///< during find
-  std::vector<PairCandidate>* out_ = nullptr;  ///< during find
+  int threads_ = 1;
+  std::vector<Job> jobs_;
+  std::vector<Task> tasks_;
   bool cull_flat_ = true;                      ///< during find
   long triangle_pairs_ = 0, vertex_pairs_ = 0;
 };

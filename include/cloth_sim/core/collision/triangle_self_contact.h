@@ -77,16 +77,21 @@ class TriangleSelfContact {
   /// apart at rest, among the pairs within @p cap (m) at @p x; @p cap if none (for tests: the
   /// layers' separation).
   double minPairDistance(const Points& x, double cap);
-  /// Threads of the intersection check of a substep's start (IntersectionCounter::setThreads);
-  /// the other stages run on one.
-  void setThreads(int threads) { counter_.setThreads(threads); }
+  /// Threads of the intersection check of a substep's start (IntersectionCounter::setThreads),
+  /// of the broad phase's walk (PairSearch::setThreads) and of the pairs' start geometry; the
+  /// other stages run on one. The result is the same on any number.
+  void setThreads(int threads) {
+    threads_ = threads;
+    counter_.setThreads(threads);
+    search_.setThreads(threads);
+  }
 
  private:
   /// contacts_ from the broad phase's pairs for the motion start -> end.
   void findContacts(const CollisionStep& step, const Points& end, double vertex_reach,
                     double edge_reach);
-  /// Appends @p pair to contacts_ with its start geometry.
-  void addContact(const CollisionStep& step, const PairCandidate& pair);
+  /// Contact @p index of contacts_ (and skip_) from candidates_[index] with its start geometry.
+  void setContact(const CollisionStep& step, std::size_t index);
   /// The pair's distance on the cloth at rest (m).
   double restDistance(const PairCandidate& pair) const;
 
@@ -101,6 +106,7 @@ class TriangleSelfContact {
   std::vector<char> skip_, tangled_vertex_, pushed_;
   std::vector<std::pair<int, int>> tangled_;
   Points last_end_, before_, carry_, untangle_;
+  int threads_ = 1;
   bool verified_ = false;  ///< last_end_ is proven free of intersections
   bool rest_near_ = false; ///< some pair is closer than 1.25 t at rest (rest distances matter)
   TriangleContactStats last_, total_;
