@@ -57,6 +57,24 @@ def main(runs_csv, out_dir):
                         f"{added:.1f} | {1e3 * added / on['particles']:.2f} | {100 * s / w:.0f} % | "
                         f"{100 * c / w:.0f} % | {off['wall_ms_mean']:.0f} / {w:.0f} | "
                         f"{on['max_intersections']} | {off['load_before']}-{on['load_after']} |\n")
+        two = [r for r in rows if r["self_collision"] == "triangles-2-threads"]
+        if two:
+            f.write("\nMode triangles on two threads (the walk and the pairs' start geometry shared; "
+                    "wall times, so the share depends on the other core being free):\n\n")
+            f.write("| grid | step wall, 1 / 2 threads (ms) | self-contact wall, 1 / 2 threads (ms) | "
+                    "self-contact / step, 1 / 2 threads | counter / step, 2 threads | "
+                    "max intersecting pairs | load |\n")
+            f.write("|---|---|---|---|---|---|---|\n")
+            for r in sorted(two, key=lambda r: r["n"]):
+                one = by.get((r["n"], "triangles"))
+                if one is None:
+                    continue
+                f.write(f"| {r['n']} x {r['n']} | {one['wall_ms_mean']:.0f} / {r['wall_ms_mean']:.0f} | "
+                        f"{one['self_contact_ms_mean']:.0f} / {r['self_contact_ms_mean']:.0f} | "
+                        f"{100 * one['self_contact_ms_mean'] / one['wall_ms_mean']:.0f} % / "
+                        f"{100 * r['self_contact_ms_mean'] / r['wall_ms_mean']:.0f} % | "
+                        f"{100 * r['intersection_ms_mean'] / r['wall_ms_mean']:.0f} % | "
+                        f"{r['max_intersections']} | {r['load_before']}-{r['load_after']} |\n")
 
 
 if __name__ == "__main__":

@@ -93,6 +93,15 @@ TEST(Threads, ContactsOnALargerClothGiveTheSameBitsAtEveryThreadCount) {
   expectSameBits(drape, 36, "drape-64");
 }
 
+TEST(Threads, TriangleSelfContactGivesTheSameBitsAtEveryThreadCount) {
+  // pile (mode triangles, 3 mm) after it lands and folds: the broad phase's walk cut into jobs
+  // and the pairs' start geometry in blocks list the serial pairs in the serial order.
+  const SceneConfig pile = loadSceneFile(test::sourcePath("config/scenes/pile.yaml"));
+  const cloth_sim::Run one = run(pile, 1, 90);
+  EXPECT_GT(*std::max_element(one.self_contacts.begin(), one.self_contacts.end()), 100);
+  expectSameBits(pile, 90, "pile");
+}
+
 // --- error control: several substep sizes, a factor kept for each ---------------------------
 
 /// What an error-controlled run leaves: the state, and per frame the substeps and iterations
