@@ -20,6 +20,8 @@ constexpr int kLeafSize = 4;
 /// the root), so that two threads finish together although the tasks' work differs.
 constexpr int kJobs = 64;
 constexpr int kSplitLevels = 12;
+/// Items (vertices, edges, triangles, leaves) per block of the refit's loops.
+constexpr std::size_t kGrain = 1024;
 
 /// Adds unit(@p n) to @p box (a zero vector adds nothing).
 void extendUnit(Eigen::AlignedBox3d& box, const Vec3& n) {
@@ -94,6 +96,9 @@ PairSearch::PairSearch(const SurfaceTopology& topology, const Points& rest) {
     ring_.insert(ring_.end(), ring.begin(), ring.end());
     ring_start_[k + 1] = static_cast<int>(ring_.size());
   }
+  for (int k = static_cast<int>(nodes_.size()) - 1; k >= 0; --k) {
+    (nodes_[k].count > 0 ? leaves_ : inner_).push_back(k);
+  }
   owner_slot_.assign(rest.cols(), -1);
   for (int t = 0; t < n; ++t) {
     for (const int* v = topology.ownedVerticesBegin(t); v != topology.ownedVerticesEnd(t); ++v) {
@@ -157,6 +162,14 @@ int PairSearch::build(const SurfaceTopology& topology, int begin, int end, const
   return index;
 }
 
+template <typename Body>
+void PairSearch::forEach(int count, Body&& body) const {
+  const BlockSplit split(static_cast<std::size_t>(count), kGrain);
+  parallelFor(threads_, split.blocks(), [&](int block) {
+    for (std::size_t i = split.begin(block); i < split.end(block); ++i) body(static_cast<int>(i));
+  });
+}
+
 void PairSearch::refitNormals(const SurfaceTopology& topology, const Points& start,
                               const Points& end) {
   const Eigen::Matrix3Xi& tri = topology.triangles();
@@ -164,7 +177,7 @@ void PairSearch::refitNormals(const SurfaceTopology& topology, const Points& sta
   flat_.assign(nodes_.size(), 0);
   if (!cull_flat_) return;  // the normals serve only to skip flat patches
   triangle_normals_.resize(order_.size());
-  for (int t = 0; t < static_cast<int>(order_.size()); ++t) {
+  forEach(static_cast<int>(order_.size()), [&](int t) {
     const int a = tri(0, t), b = tri(1, t), c = tri(2, t);
     const Vec3 e1s = start.col(b) - start.col(a), e2s = start.col(c) - start.col(a);
     const Vec3 e1e = end.col(b) - end.col(a), e2e = end.col(c) - end.col(a);
@@ -173,24 +186,26 @@ void PairSearch::refitNormals(const SurfaceTopology& topology, const Points& sta
     extendUnit(normals, e1e.cross(e2e));
     extendUnit(normals, e1s.cross(e2e) + e1e.cross(e2s));
     triangle_normals_[t] = normals;
-  }
-  for (int k = static_cast<int>(nodes_.size()) - 1; k >= 0; --k) {
+  });
+  forEach(static_cast<int>(leaves_.size()), [&](int l) {
+    const int k = leaves_[l];
     const Node& node = nodes_[k];
     Eigen::AlignedBox3d normals;
-    if (node.count > 0) {
-      for (int j = node.first; j < node.first + node.count; ++j) {
-        normals.extend(triangle_normals_[order_[j]]);
-      }
-      // The leaf's ring too: a triangle folded over just outside the leaf lets two of its
-      // triangles that share only a vertex lie on top of each other with their own normals up.
-      for (int r = ring_start_[k]; r < ring_start_[k + 1]; ++r) {
-        normals.extend(triangle_normals_[ring_[r]]);
-      }
-    } else {
-      normals = normals_[node.left].merged(normals_[node.right]);
+    for (int j = node.first; j < node.first + node.count; ++j) {
+      normals.extend(triangle_normals_[order_[j]]);
+    }
+    // The leaf's ring too: a triangle folded over just outside the leaf lets two of its
+    // triangles that share only a vertex lie on top of each other with their own normals up.
+    for (int r = ring_start_[k]; r < ring_start_[k + 1]; ++r) {
+      normals.extend(triangle_normals_[ring_[r]]);
     }
     normals_[k] = normals;
     flat_[k] = node.connected && flat(normals);
+  });
+  for (const int k : inner_) {  // children first
+    const Node& node = nodes_[k];
+    normals_[k] = normals_[node.left].merged(normals_[node.right]);
+    flat_[k] = node.connected && flat(normals_[k]);
   }
 }
 
@@ -200,33 +215,37 @@ void PairSearch::refitBoxes(const SurfaceTopology& topology) {
   tight_box_.resize(order_.size());
   vertex_nodes_.resize(nodes_.size());
   owned_box_.resize(order_.size());
-  for (int k = static_cast<int>(nodes_.size()) - 1; k >= 0; --k) {
-    const Node& node = nodes_[k];
-    Eigen::AlignedBox3d box;
-    if (node.count > 0) {
-      Eigen::AlignedBox3d vertices;
-      for (int j = node.first; j < node.first + node.count; ++j) {
-        const int t = order_[j];
-        tight_box_[j] = FloatBox::outside(triangle_box_[t]);
-        box.extend(triangle_box_[t]);
-        Eigen::AlignedBox3d owned;
-        for (const int* v = topology.ownedVerticesBegin(t); v != topology.ownedVerticesEnd(t);
-             ++v) {
-          owned.extend(vertex_box_[*v]);
-        }
-        owned_box_[j] = FloatBox::outside(owned);
-        vertices.extend(owned);
-      }
-      vertex_nodes_[k] = FloatBox::outside(vertices);
-    } else {
-      box = Eigen::AlignedBox3d(Vec3(box_[node.left].lo[0], box_[node.left].lo[1], box_[node.left].lo[2]),
-                                Vec3(box_[node.left].hi[0], box_[node.left].hi[1], box_[node.left].hi[2]));
-      box.extend(Vec3(box_[node.right].lo[0], box_[node.right].lo[1], box_[node.right].lo[2]));
-      box.extend(Vec3(box_[node.right].hi[0], box_[node.right].hi[1], box_[node.right].hi[2]));
-      vertex_nodes_[k] = vertex_nodes_[node.left].merged(vertex_nodes_[node.right]);
-    }
+  const auto set = [&](int k, const Eigen::AlignedBox3d& box) {
     box_[k] = FloatBox::outside(box);
     size_[k] = static_cast<float>(box.sizes().maxCoeff());
+  };
+  forEach(static_cast<int>(leaves_.size()), [&](int l) {
+    const int k = leaves_[l];
+    const Node& node = nodes_[k];
+    Eigen::AlignedBox3d box, vertices;
+    for (int j = node.first; j < node.first + node.count; ++j) {
+      const int t = order_[j];
+      tight_box_[j] = FloatBox::outside(triangle_box_[t]);
+      box.extend(triangle_box_[t]);
+      Eigen::AlignedBox3d owned;
+      for (const int* v = topology.ownedVerticesBegin(t); v != topology.ownedVerticesEnd(t); ++v) {
+        owned.extend(vertex_box_[*v]);
+      }
+      owned_box_[j] = FloatBox::outside(owned);
+      vertices.extend(owned);
+    }
+    vertex_nodes_[k] = FloatBox::outside(vertices);
+    set(k, box);
+  });
+  for (const int k : inner_) {
+    const Node& node = nodes_[k];
+    const FloatBox &left = box_[node.left], &right = box_[node.right];
+    Eigen::AlignedBox3d box(Vec3(left.lo[0], left.lo[1], left.lo[2]),
+                            Vec3(left.hi[0], left.hi[1], left.hi[2]));
+    box.extend(Vec3(right.lo[0], right.lo[1], right.lo[2]));
+    box.extend(Vec3(right.hi[0], right.hi[1], right.hi[2]));
+    vertex_nodes_[k] = vertex_nodes_[node.left].merged(vertex_nodes_[node.right]);
+    set(k, box);
   }
 }
 
@@ -246,22 +265,22 @@ void PairSearch::find(const SurfaceTopology& topology, const Points& start, cons
   const Vec3 grow = Vec3::Constant(reach - 0.5 * edge_reach);
   vertex_box_.resize(n_vertices);
   path_box_.resize(n_vertices);
-  for (int i = 0; i < n_vertices; ++i) {
+  forEach(n_vertices, [&](int i) {
     const Vec3 a = start.col(i), b = end.col(i);
     path_box_[i] = Eigen::AlignedBox3d(a.cwiseMin(b) - edge_grow, a.cwiseMax(b) + edge_grow);
     vertex_box_[i] = Eigen::AlignedBox3d(a.cwiseMin(b) - grow, a.cwiseMax(b) + grow);
-  }
+  });
   edge_box_.resize(topology.edgeCount());
-  for (int e = 0; e < topology.edgeCount(); ++e) {
+  forEach(topology.edgeCount(), [&](int e) {
     const auto& v = topology.edge(e);
     edge_box_[e] = path_box_[v[0]].merged(path_box_[v[1]]);
-  }
+  });
   const Eigen::Matrix3Xi& tri = topology.triangles();
   triangle_box_.resize(topology.triangleCount());
-  for (int t = 0; t < topology.triangleCount(); ++t) {
+  forEach(topology.triangleCount(), [&](int t) {
     triangle_box_[t] =
         path_box_[tri(0, t)].merged(path_box_[tri(1, t)]).merged(path_box_[tri(2, t)]);
-  }
+  });
   refitBoxes(topology);
   topology_ = &topology;
   walk(out);

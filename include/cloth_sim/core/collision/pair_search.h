@@ -107,6 +107,9 @@ class PairSearch {
   void refitNormals(const SurfaceTopology& topology, const Points& start, const Points& end);
   /// Each node's boxes from the triangles' and vertices' (triangle_box_, vertex_box_).
   void refitBoxes(const SurfaceTopology& topology);
+  /// body(i) for i in [0, @p count), in fixed blocks on threads_ (each i writes only its own).
+  template <typename Body>
+  void forEach(int count, Body&& body) const;
   /// Which pairs of two nodes are still to be found: edges of both, vertices of the first with
   /// triangles of the second, and the other way round.
   static constexpr unsigned kEdges = 1, kVerticesOfA = 2, kVerticesOfB = 4, kAll = 7;
@@ -147,6 +150,8 @@ class PairSearch {
 
   std::vector<Node> nodes_;  ///< preorder: a parent before its children
   std::vector<int> order_;   ///< the triangles, leaf by leaf
+  /// The leaves, and the inner nodes children first (each after both its children).
+  std::vector<int> leaves_, inner_;
   /// Each node's box (its triangles'), the box of the vertices its triangles own; each
   /// triangle's box and that of the vertices it owns (by order_ slot).
   std::vector<FloatBox> box_, vertex_nodes_, tight_box_, owned_box_;
