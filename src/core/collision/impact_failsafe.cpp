@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "cloth_sim/core/collision/additive_ccd.h"
+#include "cloth_sim/core/linalg/parallel.h"
 
 namespace cloth_sim {
 namespace {
@@ -29,20 +30,44 @@ CcdResult safeTime(const PairContact& c, const Points& start, const Points& end,
   return additiveCcd(c.pair.kind, x0, motion, min_distance);
 }
 
+/// Pairs per block of the CCD tests run on threads.
+constexpr std::size_t kCcdGrain = 1024;
+
 /// Runs additive CCD on each pair of @p contacts that is not skipped and has a particle marked in
 /// @p changed, over the motion start -> @p end, and calls @p on_hit(pair, its CCD result) for
-/// each that collides. Returns the number of those (a round's hits).
+/// each that collides, in pair order. Returns the number of those (a round's hits).
+/// The tests run first, in fixed blocks on @p threads, on the end as it is; a hit that moves
+/// particles marks them in @p dirty (if given), and a later pair with a dirty particle is tested
+/// again on the end as it then is: the same hits and results as testing each pair in turn.
 template <typename OnHit>
 int forEachImpact(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
                   const std::vector<char>& changed, const Points& start, const Points& end,
-                  double thickness, int& tests, OnHit&& on_hit) {
+                  double thickness, int threads, std::vector<char>* dirty,
+                  std::vector<CcdResult>& results, int& tests, OnHit&& on_hit) {
+  const auto tested = [&](std::size_t i) {
+    const auto& v = contacts[i].pair.v;
+    return !skip[i] && (changed[v[0]] || changed[v[1]] || changed[v[2]] || changed[v[3]]);
+  };
+  const BlockSplit split(contacts.size(), kCcdGrain);
+  std::vector<int> block_tests(static_cast<std::size_t>(split.blocks()), 0);
+  results.resize(contacts.size());
+  parallelFor(threads, split.blocks(), [&](int b) {
+    for (std::size_t i = split.begin(b); i < split.end(b); ++i) {
+      results[i] = tested(i) ? safeTime(contacts[i], start, end, thickness, block_tests[b])
+                             : CcdResult{};
+    }
+  });
+  for (const int t : block_tests) tests += t;
+  if (dirty != nullptr) std::fill(dirty->begin(), dirty->end(), 0);
   int hits = 0;
   for (std::size_t i = 0; i < contacts.size(); ++i) {
-    if (skip[i]) continue;
+    if (!tested(i)) continue;
     const PairContact& c = contacts[i];
     const auto& v = c.pair.v;
-    if (!(changed[v[0]] || changed[v[1]] || changed[v[2]] || changed[v[3]])) continue;
-    const CcdResult ccd = safeTime(c, start, end, thickness, tests);
+    CcdResult ccd = results[i];
+    if (dirty != nullptr && ((*dirty)[v[0]] || (*dirty)[v[1]] || (*dirty)[v[2]] || (*dirty)[v[3]])) {
+      ccd = safeTime(c, start, end, thickness, tests);
+    }
     if (ccd.safe_time >= 1.0) continue;
     ++hits;
     on_hit(c, ccd);
@@ -54,15 +79,18 @@ int forEachImpact(const std::vector<PairContact>& contacts, const std::vector<ch
 
 ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
                          const CollisionStep& step, const GroundPlane& ground, double thickness,
-                         int rounds, Points& end, Points* carry, std::vector<char>& moved) {
+                         int rounds, Points& end, Points* carry, std::vector<char>& moved,
+                         int threads) {
   ImpactReport report;
   const Points& start = step.start;
   const int n = static_cast<int>(end.cols());
-  std::vector<char> changed(n, 1), next_changed(n, 0);
+  std::vector<char> changed(n, 1), next_changed(n, 0), dirty(n, 0);
+  std::vector<CcdResult> results;
   moved.assign(n, 0);
   for (int round = 0; round < rounds; ++round) {
     std::fill(next_changed.begin(), next_changed.end(), 0);
-    const int hits = forEachImpact(contacts, skip, changed, start, end, thickness, report.tests,
+    const int hits = forEachImpact(contacts, skip, changed, start, end, thickness, threads, &dirty,
+                                   results, report.tests,
                                    [&](const PairContact& c, const CcdResult& ccd) {
       const auto& v = c.pair.v;
       for (int k = 0; k < 4; ++k) moved[v[k]] = 1;  // stopImpacts tests it again
@@ -79,7 +107,7 @@ ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::ve
       const double gap = normal.dot(g) - 0.5 * thickness;
       if (gap >= 0.0) return;  // apart at the end: it went round; the fail-safe decides
       if (pushApart(v, cp.weight, normal, gap, step, ground, 0.0, end, carry)) {
-        for (int k = 0; k < 4; ++k) next_changed[v[k]] = 1;
+        for (int k = 0; k < 4; ++k) next_changed[v[k]] = dirty[v[k]] = 1;
       }
     });
     report.hits += hits;
@@ -92,7 +120,8 @@ ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::ve
 
 ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
                          const CollisionStep& step, double thickness, int scaled_rounds,
-                         Points& end, Points* carry, const std::vector<char>* moved) {
+                         Points& end, Points* carry, const std::vector<char>* moved,
+                         int threads) {
   ImpactReport report;
   const Points& start = step.start;
   const int n = static_cast<int>(end.cols());
@@ -100,6 +129,7 @@ ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::ve
   std::vector<char> changed(n, 1), shortened(n, 0), next_changed(n, 0);
   if (moved != nullptr) changed = *moved;
   std::vector<int> touched;
+  std::vector<CcdResult> results;
   for (std::size_t i = 0; i < contacts.size(); ++i) {
     if (!skip[i] && !(impactDistance(thickness, contacts[i].start_distance) > 1e-9 * thickness)) {
       ++report.touching;
@@ -109,7 +139,9 @@ ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::ve
     const bool stop_outright = round >= scaled_rounds;
     scale.assign(n, 1.0);
     touched.clear();
-    const int hits = forEachImpact(contacts, skip, changed, start, end, thickness, report.tests,
+    // A round only marks scales: every pair is tested on the round's end as it was.
+    const int hits = forEachImpact(contacts, skip, changed, start, end, thickness, threads,
+                                   nullptr, results, report.tests,
                                    [&](const PairContact& c, const CcdResult& ccd) {
       const auto& v = c.pair.v;
       const double s = stop_outright ? 0.0 : ccd.safe_time;

@@ -182,7 +182,7 @@ int TriangleSelfContact::resolve(const CollisionStep& step, const GroundPlane& g
   // every pair that comes within 0.1 t while no particle has moved kMoveCovered t from where
   // the search saw it (before_); past that, a new search.
   const ImpactReport pushed =
-      pushImpacts(contacts_, skip_, step, ground, t, kPushRounds, end, &carry_, pushed_);
+      pushImpacts(contacts_, skip_, step, ground, t, kPushRounds, end, &carry_, pushed_, threads_);
   const double moved_far = (end - before_).colwise().squaredNorm().maxCoeff();
   if (moved_far >= kMoveCovered * kMoveCovered * t * t) {
     findContacts(step, end, kVertexReach * t, kEdgeReach * t);
@@ -190,7 +190,7 @@ int TriangleSelfContact::resolve(const CollisionStep& step, const GroundPlane& g
   }
   // The first round tests only the pairs pushImpacts did not prove safe over this motion.
   const ImpactReport impacts =
-      stopImpacts(contacts_, skip_, step, t, kScaledRounds, end, &carry_, &pushed_);
+      stopImpacts(contacts_, skip_, step, t, kScaledRounds, end, &carry_, &pushed_, threads_);
   last_.impact_tests = pushed.tests + impacts.tests;
   last_.pushed = pushed.hits;
   last_.impacts = impacts.hits;

@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "cloth_sim/core/collision/additive_ccd.h"
 #include "cloth_sim/core/collision/colliders.h"
 #include "cloth_sim/core/collision/proximity_projection.h"
 #include "cloth_sim/core/linalg/types.h"
@@ -47,11 +48,12 @@ inline double impactDistance(double thickness, double start_distance) {
 /// and put the pair back at a distance from which the next substep's impact distance does not
 /// shrink. Pushed particles may leave the broad phase's boxes: the caller searches again when
 /// they moved far. @p carry as in pushApart; @p moved gets 1 for each particle of a pair found
-/// colliding (pushed or not). Returns
-/// the report (hits and tests; nothing is shortened).
+/// colliding (pushed or not). The CCD tests run on @p threads (the pushes in pair order: the
+/// same result on any number). Returns the report (hits and tests; nothing is shortened).
 ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
                          const CollisionStep& step, const GroundPlane& ground, double thickness,
-                         int rounds, Points& end, Points* carry, std::vector<char>& moved);
+                         int rounds, Points& end, Points* carry, std::vector<char>& moved,
+                         int threads = 1);
 
 /// Detects the impacts of @p contacts (those with @p skip[i] false) over the motion from
 /// @p step.start to @p end by additive CCD (additive_ccd.h) down to impactDistance, and removes
@@ -63,9 +65,11 @@ ImpactReport pushImpacts(const std::vector<PairContact>& contacts, const std::ve
 /// straight paths the broad phase bounded, so no new candidate can appear. Each change of an
 /// end position is made to @p carry too (if given; see pushApart). With @p moved, the first
 /// round tests only the pairs with a particle marked there (the others were found safe over
-/// this motion already, by pushImpacts).
+/// this motion already, by pushImpacts). The CCD tests run on @p threads (the same result on
+/// any number).
 ImpactReport stopImpacts(const std::vector<PairContact>& contacts, const std::vector<char>& skip,
                          const CollisionStep& step, double thickness, int scaled_rounds,
-                         Points& end, Points* carry, const std::vector<char>* moved = nullptr);
+                         Points& end, Points* carry, const std::vector<char>* moved = nullptr,
+                         int threads = 1);
 
 }  // namespace cloth_sim
