@@ -96,7 +96,10 @@ void ClothSimNode::advertiseTopics() {
   // Latched: a client that subscribes while the node is paused gets the state now.
   state_pub_ = nh_.advertise<ClothState>(names::kState, 10, /*latch=*/true);
   points_pub_ = nh_.advertise<sensor_msgs::PointCloud2>(names::kPoints, 2);
-  frame_state_pub_ = nh_.advertise<FrameState>(names::kFrameState, 10);
+  // A cloth/step call publishes its frames back to back: the queue holds a call's worth (as far
+  // as memory allows), so that a subscriber that reads a little late still sees every frame.
+  frame_state_pub_ = nh_.advertise<FrameState>(
+      names::kFrameState, frameStateQueue(sim_.model().particleCount(), kMaxFramesPerCall));
   if (options_.publish_clock) {
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>(names::kClock, 10, /*latch=*/true);
     if (!ros::Time::isSimTime()) {

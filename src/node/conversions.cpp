@@ -1,5 +1,7 @@
 #include "cloth_sim/node/conversions.h"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -124,6 +126,13 @@ ClothState toClothState(const Simulation& sim, const StepReport& report,
     s.spheres.push_back(toSphereInfo(sphere));
   }
   return s;
+}
+
+std::uint32_t frameStateQueue(int particles, std::uint32_t frames_per_call) {
+  const double bytes = 48.0 * std::max(particles, 0) + 256.0;  // the header, step and digest
+  const double fits = std::floor(kFrameStateQueueBytes / bytes);
+  return static_cast<std::uint32_t>(
+      std::max(10.0, std::min(static_cast<double>(frames_per_call), fits)));
 }
 
 }  // namespace cloth_sim::node

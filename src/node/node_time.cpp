@@ -9,10 +9,6 @@
 namespace cloth_sim::node {
 namespace {
 
-/// Frames one cloth/step call may ask for (about 2.8 simulated minutes at 60 Hz, 4.5 s of wall
-/// time on a 256-particle cloth): the call holds the node's only thread. Longer runs go through
-/// the cloth/step_frames action, which steps in chunks and can be cancelled.
-constexpr std::uint32_t kMaxFramesPerCall = 10000;
 /// Frames one goal of cloth/step_frames may ask for (about 19 simulated days at 60 Hz).
 constexpr std::uint32_t kMaxActionFrames = 100000000;
 /// Wall time (s) the action steps per tick before the other callbacks get the thread back.

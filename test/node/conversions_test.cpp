@@ -173,5 +173,17 @@ TEST(Conversions, ClothStateReportsTheStepAndTheSimulation) {
   EXPECT_EQ(toClothState(sim, counted, StepCounters{5, 0, 1}, header).self_intersections, 0);
 }
 
+TEST(Conversions, TheFrameStateQueueHoldsAStepCallWithinItsMemory) {
+  // A 10 x 10 cloth: a whole call of 10000 frames (0.05 GB); 32 x 32: as many as 64 MB hold;
+  // never under 10, however large the cloth.
+  EXPECT_EQ(frameStateQueue(100, 10000), 10000u);
+  const std::uint32_t q32 = frameStateQueue(1024, 10000);
+  EXPECT_EQ(q32, static_cast<std::uint32_t>(std::floor(kFrameStateQueueBytes / (48.0 * 1024 + 256))));
+  EXPECT_GT(q32, 1000u);
+  EXPECT_LT(q32 * (48.0 * 1024), kFrameStateQueueBytes);
+  EXPECT_EQ(frameStateQueue(10000000, 10000), 10u);
+  EXPECT_EQ(frameStateQueue(100, 5), 10u);
+}
+
 }  // namespace
 }  // namespace cloth_sim::node

@@ -57,4 +57,13 @@ struct StepCounters {
 ClothState toClothState(const Simulation& sim, const StepReport& report,
                         const StepCounters& counters, const std_msgs::Header& header);
 
+/// Bytes of cloth/frame_state messages a lagging subscriber may leave queued at the publisher.
+constexpr double kFrameStateQueueBytes = 64e6;
+/// Queue of the cloth/frame_state publisher for a cloth of @p particles: a cloth/step call
+/// publishes its frames back to back, and a subscriber must see every one (a lockstep
+/// controller), so the queue holds as many frames as one call may ask for (@p frames_per_call),
+/// as far as kFrameStateQueueBytes of positions and velocities (48 bytes a particle) allow;
+/// never fewer than 10.
+std::uint32_t frameStateQueue(int particles, std::uint32_t frames_per_call);
+
 }  // namespace cloth_sim::node
