@@ -108,17 +108,17 @@ PairSearch::PairSearch(const SurfaceTopology& topology, const Points& rest) {
 }
 
 bool PairSearch::sharesVertex(const SurfaceTopology& topology, int a_begin, int a_end,
-                              int b_begin, int b_end, std::vector<char>& mark_) const {
+                              int b_begin, int b_end, std::vector<char>& mark) const {
   const Eigen::Matrix3Xi& tri = topology.triangles();
   for (int k = a_begin; k < a_end; ++k) {
-    for (int i = 0; i < 3; ++i) mark_[tri(i, order_[k])] = 1;
+    for (int i = 0; i < 3; ++i) mark[tri(i, order_[k])] = 1;
   }
   bool shared = false;
   for (int k = b_begin; k < b_end && !shared; ++k) {
-    for (int i = 0; i < 3; ++i) shared = shared || mark_[tri(i, order_[k])];
+    for (int i = 0; i < 3; ++i) shared = shared || mark[tri(i, order_[k])];
   }
   for (int k = a_begin; k < a_end; ++k) {
-    for (int i = 0; i < 3; ++i) mark_[tri(i, order_[k])] = 0;
+    for (int i = 0; i < 3; ++i) mark[tri(i, order_[k])] = 0;
   }
   return shared;
 }

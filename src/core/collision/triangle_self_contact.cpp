@@ -30,6 +30,8 @@ constexpr double kNear = 0.5;
 constexpr int kSweeps = 6;
 constexpr int kScaledRounds = 4;
 constexpr int kPushRounds = 3;
+/// Pairs per block of the start geometry computed on threads.
+constexpr std::size_t kContactGrain = 2048;
 
 PairPoints pairPoints(const PairCandidate& pair, const Points& x) {
   return {x.col(pair.v[0]), x.col(pair.v[1]), x.col(pair.v[2]), x.col(pair.v[3])};
@@ -91,7 +93,7 @@ void TriangleSelfContact::findContacts(const CollisionStep& step, const Points& 
   last_.triangle_pairs += search_.trianglePairs() + search_.vertexPairs();
   contacts_.resize(candidates_.size());
   skip_.resize(candidates_.size());
-  const BlockSplit split(candidates_.size(), 2048);
+  const BlockSplit split(candidates_.size(), kContactGrain);
   parallelFor(threads_, split.blocks(), [&](int b) {
     for (std::size_t i = split.begin(b); i < split.end(b); ++i) setContact(step, i);
   });
