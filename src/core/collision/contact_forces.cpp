@@ -1,6 +1,7 @@
 #include "cloth_sim/core/collision/contact_forces.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "cloth_sim/core/collision/contact_projection.h"
@@ -13,6 +14,21 @@ constexpr double kRelaxation = 0.5;
 
 /// The position (m) stored at @p offset of a node buffer.
 Vec3 nodeAt(const NodeBuffer& x, int offset) { return Vec3(x[offset], x[offset + 1], x[offset + 2]); }
+
+/// Adds the wall time from its construction to @p total (s).
+class Stopwatch {
+ public:
+  explicit Stopwatch(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
+  ~Stopwatch() {
+    total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  Stopwatch(const Stopwatch&) = delete;
+  Stopwatch& operator=(const Stopwatch&) = delete;
+
+ private:
+  double& total_;
+  std::chrono::steady_clock::time_point start_;
+};
 
 }  // namespace
 
@@ -114,6 +130,48 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
   });
   indexVertices(particle_node);
   placeBodies();
+  beginPairs(y, compliance, particle_node);
+}
+
+void ContactForces::beginPairs(const Points& y, const Eigen::VectorXd& compliance,
+                               const std::vector<int>& particle_node) {
+  pairs_.clear();
+  if (self_pairs_.empty()) return;
+  Stopwatch watch(self_pair_seconds_);
+  const std::size_t n = static_cast<std::size_t>(y.cols());
+  if (vertex_pair_force_.size() != n) {
+    vertex_pair_force_.assign(n, 0.0);
+    edge_pair_force_.assign(n, 0.0);
+  }
+  // Mass splitting over the pairs sharing each particle; and the pairs sharing each warm-start
+  // key (vertex[0] of each kind: a vertex's weight is shared by its pairs, as a contact's).
+  pair_count_.assign(3 * n, 0);
+  for (const SelfPair& p : self_pairs_) {
+    for (int k = 0; k < 4; ++k) ++pair_count_[p.vertex[k]];
+    ++pair_count_[(p.edges ? 2 : 1) * n + p.vertex[0]];
+  }
+  const double hi2 = implicit_h_ * implicit_h_;
+  pairs_.reserve(self_pairs_.size());
+  for (const SelfPair& p : self_pairs_) {
+    PairForce f;
+    f.pair = p;
+    for (int k = 0; k < 4; ++k) {
+      const int v = p.vertex[k];
+      f.offset[k] = kNodeStride * particle_node[v];
+      f.start += p.weight[k] * start_.col(v);
+      if (movable_[v]) f.response += hi2 * p.weight[k] * p.weight[k] * pair_count_[v] * compliance[v];
+    }
+    if (!(f.response > 0.0)) continue;  // four pinned particles: nothing to move
+    const std::vector<double>& last = p.edges ? edge_pair_force_ : vertex_pair_force_;
+    f.lambda = last[p.vertex[0]] / pair_count_[(p.edges ? 2 : 1) * n + p.vertex[0]];
+    pairs_.push_back(f);
+  }
+}
+
+double ContactForces::takeSelfPairSeconds() {
+  const double seconds = self_pair_seconds_;
+  self_pair_seconds_ = 0.0;
+  return seconds;
 }
 
 void ContactForces::indexVertices(const std::vector<int>& particle_node) {
@@ -201,6 +259,26 @@ void ContactForces::update(const NodeBuffer& x) {
     if (size > cap) c.friction *= cap / size;
   });
   placeBodies();
+  if (pairs_.empty()) return;
+  Stopwatch watch(self_pair_seconds_);
+  const BlockSplit split(pairs_.size(), 1024);
+  parallelFor(threads_, split.blocks(), [&](int b) {
+    for (std::size_t i = split.begin(b); i < split.end(b); ++i) {
+      PairForce& f = pairs_[i];
+      Vec3 g = Vec3::Zero();
+      for (int k = 0; k < 4; ++k) g += f.pair.weight[k] * nodeAt(x, f.offset[k]);
+      const double gap = f.pair.normal.dot(g) - f.pair.distance;
+      f.lambda = std::max(0.0, f.lambda - kRelaxation * gap / f.response);
+      if (f.pair.mu <= 0.0) continue;
+      // The closest points' slide over the step, against Coulomb friction (as a still contact's).
+      const Vec3 slip = g - f.start;
+      const Vec3 n = f.pair.normal;
+      f.friction -= kRelaxation * (slip - slip.dot(n) * n) / f.response;
+      f.friction -= f.friction.dot(n) * n;
+      const double cap = f.pair.mu * f.lambda, size = f.friction.norm();
+      if (size > cap) f.friction *= cap / size;
+    }
+  });
 }
 
 void ContactForces::addForces(NodeBuffer& rhs) const {
@@ -221,6 +299,16 @@ void ContactForces::addForces(NodeBuffer& rhs) const {
       for (int d = 0; d < 3; ++d) rhs[touched_[t] + d] += sum[d];
     }
   });
+  if (pairs_.empty()) return;
+  Stopwatch watch(self_pair_seconds_);
+  for (const PairForce& f : pairs_) {  // in pair order: the same sums on any thread count
+    if (f.lambda <= 0.0 && f.friction.isZero(0.0)) continue;
+    for (int k = 0; k < 4; ++k) {
+      if (!movable_[f.pair.vertex[k]]) continue;
+      const Vec3 force = (h2 * f.pair.weight[k]) * (f.lambda * f.pair.normal + f.friction);
+      for (int d = 0; d < 3; ++d) rhs[f.offset[k] + d] += force[d];
+    }
+  }
 }
 
 void ContactForces::finish(Colliders& colliders) {
@@ -237,6 +325,11 @@ void ContactForces::finish(Colliders& colliders) {
     spheres[k].center = bodies_[k].center;
     spheres[k].velocity += shift / h_;
     spheres[k].angular_velocity += h_ * bodies_[k].inv_inertia * torque[k];
+  }
+  std::fill(vertex_pair_force_.begin(), vertex_pair_force_.end(), 0.0);
+  std::fill(edge_pair_force_.begin(), edge_pair_force_.end(), 0.0);
+  for (const PairForce& f : pairs_) {
+    (f.pair.edges ? edge_pair_force_ : vertex_pair_force_)[f.pair.vertex[0]] += f.lambda;
   }
   vertex_force_.clear();
   for (const Contact& c : contacts_) {
@@ -299,6 +392,12 @@ void ContactForces::markTouched(std::vector<char>& mask) const {
     if (c.lambda <= 0.0) continue;
     for (int j = 0; j < 3; ++j) {
       if (c.weight[j] > 0.0) mask[c.vertex[j]] = 1;
+    }
+  }
+  for (const PairForce& f : pairs_) {
+    if (f.lambda <= 0.0) continue;
+    for (int k = 0; k < 4; ++k) {
+      if (f.pair.weight[k] != 0.0) mask[f.pair.vertex[k]] = 1;
     }
   }
 }

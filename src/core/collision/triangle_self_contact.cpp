@@ -128,6 +128,7 @@ void TriangleSelfContact::setContact(const CollisionStep& step, std::size_t inde
 int TriangleSelfContact::resolve(const CollisionStep& step, const GroundPlane& ground, Points& end,
                                  Points& velocities) {
   last_ = TriangleContactStats();
+  solve_pairs_.clear();
   if (!end.allFinite()) return 0;  // the step's check rolls this frame back
   const Points& start = step.start;
   const int n = static_cast<int>(end.cols());
@@ -204,10 +205,35 @@ int TriangleSelfContact::resolve(const CollisionStep& step, const GroundPlane& g
     velocities.col(i) += (carry_.col(i) - before_.col(i)) / step.h;
     ++moved;
   }
+  listSolvePairs(end);
   verified_ = tangled_.empty() && impacts.unresolved == 0 && impacts.touching == 0;
   last_end_ = end;
   total_.add(last_);
   return moved;
+}
+
+void TriangleSelfContact::listSolvePairs(const Points& end) {
+  // The proximity pairs still within the stage's reach at the end, linearised there (where the
+  // next step starts); a pair the end sees from the other side is left to the impact stage.
+  for (const int index : active_) {
+    const PairContact& c = contacts_[index];
+    const ClosestPoints cp = closestPoints(c.pair.kind, pairPoints(c.pair, end));
+    if (!(cp.distance > 1e-9 * thickness_) || cp.distance >= (1.0 + kNear) * c.contact_distance) {
+      continue;
+    }
+    Vec3 gap = Vec3::Zero();
+    for (int k = 0; k < 4; ++k) gap += cp.weight[k] * end.col(c.pair.v[k]);
+    const Vec3 normal = gap / cp.distance;
+    if (!(normal.dot(c.normal) > 0.0)) continue;
+    ContactForces::SelfPair p;
+    p.vertex = c.pair.v;
+    p.weight = cp.weight;
+    p.normal = normal;
+    p.distance = c.contact_distance;
+    p.mu = friction_;
+    p.edges = c.pair.kind == PairKind::kEdgeEdge;
+    solve_pairs_.push_back(p);
+  }
 }
 
 double TriangleSelfContact::minPairDistance(const Points& x, double cap) {

@@ -96,6 +96,16 @@ void SubstepPipeline::collide(const SubstepWorld& world, const PinSet& pins, dou
     self_time += std::chrono::steady_clock::now() - t_resolve;
     report.self_contact_time += std::chrono::duration<double>(self_time).count();
   }
+  // The pairs the proximity stage held go into the next step's solve (mode triangles).
+  TriangleSelfContact* triangles =
+      world.self_contact != nullptr ? world.self_contact->triangles() : nullptr;
+  if (triangles != nullptr) {
+    contacts_.swapSelfPairs(triangles->solvePairs());
+  } else {
+    std::vector<ContactForces::SelfPair> none;
+    contacts_.swapSelfPairs(none);
+  }
+  report.self_contact_time += contacts_.takeSelfPairSeconds();
   if (!touched_.empty()) {  // moved after the solve: a collider or the cloth itself corrected it
     for (Eigen::Index i = 0; i < state.positions.cols(); ++i) {
       if (state.positions.col(i) != solved_positions.col(i)) touched_[i] = 1;

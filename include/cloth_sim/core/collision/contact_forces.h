@@ -55,8 +55,36 @@ namespace cloth_sim {
 /// not just the penetration of one step. Forces are warm-started from the previous step (a
 /// resting contact converges over steps). Linear momentum is conserved exactly: the sphere
 /// receives minus what the cloth receives.
+///
+/// Self-contact pairs (SelfPair: a vertex and a triangle, or two edges, of the cloth itself)
+/// enter the same way, with the constraint n . sum_k w_k x_k >= d on four particles whose
+/// weights sum to zero: lambda <- max(0, lambda - 0.5 gap / r), r = h_i^2 sum_k w_k^2 c_k
+/// (c_k: compliance times the pairs sharing the particle), and Coulomb friction f on the
+/// closest points' slide, |f| <= mu lambda; the force w_k (lambda n + f) on each particle (so
+/// their momentum sums to zero). The pairs are those the previous step's proximity stage held
+/// (TriangleSelfContact::solvePairs), linearised at its end: the solve then finds the springs'
+/// balance with the layers apart, where a push after the solve alone stretched springs that
+/// the next two iterations let go of only partly, and a pile gained energy until it blew up
+/// (docs/method.md, "Self-contact in the solve").
 class ContactForces {
  public:
+  /// A self-contact constraint n . sum_k weight[k] x_{vertex[k]} >= distance on four particles
+  /// of the cloth (weights sum to zero: a vertex against a triangle's point, or an edge's
+  /// point against another's).
+  struct SelfPair {
+    std::array<int, 4> vertex{};
+    std::array<double, 4> weight{};
+    Vec3 normal = Vec3::Zero();  ///< unit, from the second primitive to the first
+    double distance = 0.0;       ///< m, the distance the pair keeps
+    double mu = 0.0;             ///< Coulomb coefficient of the cloth on itself
+    bool edges = false;          ///< edge-edge (else vertex[0] against a triangle)
+  };
+  /// Swaps @p pairs with the self-contact pairs the next steps' begin() reads (kept as the
+  /// warm start is: a copy of this object, as in a snapshot, keeps them).
+  void swapSelfPairs(std::vector<SelfPair>& pairs) { self_pairs_.swap(pairs); }
+  /// Wall time (s) of the self-contact pairs' set-up, updates and forces since the last call:
+  /// self-contact's share of the solve (StepReport::self_contact_time).
+  double takeSelfPairSeconds();
   /// Starts a step (Simulation): the dynamic spheres of @p colliders at their free end-of-step
   /// positions (Colliders::advance done) and the step's context, kept by value until the next
   /// beginStep.
@@ -102,12 +130,12 @@ class ContactForces {
   int completeFriction(Points& positions, Points& velocities, Points* history_velocities,
                        bool stick) const;
 
-  bool empty() const { return contacts_.empty(); }
+  bool empty() const { return contacts_.empty() && pairs_.empty(); }
   /// Contacts of this step that push (lambda > 0): a contact point on a triangle, an edge or a
   /// vertex (spheres) or a particle (ground, mesh obstacles).
   int activeCount() const;
-  /// Sets @p mask[i] (one per particle) for every particle an active contact of this step
-  /// touches.
+  /// Sets @p mask[i] (one per particle) for every particle an active contact or self pair of
+  /// this step touches.
   void markTouched(std::vector<char>& mask) const;
 
  private:
@@ -204,6 +232,26 @@ class ContactForces {
     Vec3 friction = Vec3::Zero();
   };
   std::unordered_map<std::uint64_t, Force> vertex_force_;  ///< forceKey(source, vertex) -> force
+
+  /// A self pair in the solve.
+  struct PairForce {
+    SelfPair pair;
+    double lambda = 0.0;    ///< N, >= 0
+    double response = 0.0;  ///< m/N: h_i^2 sum_k w_k^2 c_k (mass splitting, as the contacts')
+    Vec3 friction = Vec3::Zero();  ///< N, on the first primitive, |friction| <= mu lambda
+    Vec3 start = Vec3::Zero();     ///< m, sum_k w_k x_k at the start of the step
+    std::array<int, 4> offset{};  ///< the particles' first double in the node buffers
+  };
+  /// Lists pairs_ from self_pairs_ (begin): responses, offsets, warm starts.
+  void beginPairs(const Points& y, const Eigen::VectorXd& compliance,
+                  const std::vector<int>& particle_node);
+  std::vector<SelfPair> self_pairs_;  ///< swapSelfPairs' pairs
+  std::vector<PairForce> pairs_;
+  /// Last step's pair forces (N) summed on each pair's vertex[0], vertex pairs and edge pairs
+  /// apart: the warm start, shared among this step's pairs on that particle.
+  std::vector<double> vertex_pair_force_, edge_pair_force_;
+  std::vector<int> pair_count_;  ///< beginPairs' work buffer
+  mutable double self_pair_seconds_ = 0.0;
 };
 
 }  // namespace cloth_sim

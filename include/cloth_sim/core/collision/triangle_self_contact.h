@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cloth_sim/core/collision/colliders.h"
+#include "cloth_sim/core/collision/contact_forces.h"
 #include "cloth_sim/core/collision/impact_failsafe.h"
 #include "cloth_sim/core/collision/pair_search.h"
 #include "cloth_sim/core/collision/proximity_projection.h"
@@ -54,6 +55,8 @@ struct TriangleContactStats {
 ///    pushed apart at its time of impact (pushImpacts, 3 rounds), then the fail-safe that
 ///    shortens colliding motions (stopImpacts, 4 scaled rounds, then stops). A substep that starts free of intersections ends free of them, unless a
 ///    hard-pinned particle is driven through the cloth (then the next substep untangles).
+/// 4. The proximity pairs still within 1.5 d at the end, linearised there (solvePairs), go
+///    into the next substep's solve as contact forces (ContactForces::SelfPair).
 ///
 /// Velocities get the change of position of stages 2 and 3 over h, except the part of a push
 /// that restores the thickness of a pair already too close (pushApart): that one, and the
@@ -71,6 +74,10 @@ class TriangleSelfContact {
               Points& velocities);
 
   const TriangleContactStats& lastStats() const { return last_; }
+  /// The proximity pairs of the last resolve still within 1.5 times their contact distance at
+  /// its end, linearised there: the next step's solve keeps them apart (the substep pipeline
+  /// swaps them into ContactForces::swapSelfPairs).
+  std::vector<ContactForces::SelfPair>& solvePairs() { return solve_pairs_; }
   const TriangleContactStats& totalStats() const { return total_; }
   const SurfaceTopology& topology() const { return topology_; }
   /// Smallest distance (m) between a vertex and a triangle sharing no vertex and at least t
@@ -92,6 +99,8 @@ class TriangleSelfContact {
                     double edge_reach);
   /// Contact @p index of contacts_ (and skip_) from candidates_[index] with its start geometry.
   void setContact(const CollisionStep& step, std::size_t index);
+  /// solve_pairs_ from the proximity pairs (active_) at the resolve's @p end.
+  void listSolvePairs(const Points& end);
   /// The pair's distance on the cloth at rest (m).
   double restDistance(const PairCandidate& pair) const;
 
@@ -103,6 +112,7 @@ class TriangleSelfContact {
   std::vector<PairCandidate> candidates_;
   std::vector<PairContact> contacts_;
   std::vector<int> active_;
+  std::vector<ContactForces::SelfPair> solve_pairs_;
   std::vector<char> skip_, tangled_vertex_, pushed_;
   std::vector<std::pair<int, int>> tangled_;
   Points last_end_, before_, carry_, untangle_;
