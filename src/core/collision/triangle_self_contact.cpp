@@ -215,24 +215,34 @@ int TriangleSelfContact::resolve(const CollisionStep& step, const GroundPlane& g
 void TriangleSelfContact::listSolvePairs(const Points& end) {
   // The proximity pairs still within the stage's reach at the end, linearised there (where the
   // next step starts); a pair the end sees from the other side is left to the impact stage.
-  for (const int index : active_) {
-    const PairContact& c = contacts_[index];
-    const ClosestPoints cp = closestPoints(c.pair.kind, pairPoints(c.pair, end));
-    if (!(cp.distance > 1e-9 * thickness_) || cp.distance >= (1.0 + kNear) * c.contact_distance) {
-      continue;
+  // Each pair in fixed blocks, then the kept ones in pair order: the same list on any threads.
+  listed_.resize(active_.size());
+  keep_.assign(active_.size(), 0);
+  const BlockSplit split(active_.size(), kContactGrain);
+  parallelFor(threads_, split.blocks(), [&](int b) {
+    for (std::size_t i = split.begin(b); i < split.end(b); ++i) {
+      const PairContact& c = contacts_[active_[i]];
+      const ClosestPoints cp = closestPoints(c.pair.kind, pairPoints(c.pair, end));
+      if (!(cp.distance > 1e-9 * thickness_) ||
+          cp.distance >= (1.0 + kNear) * c.contact_distance) {
+        continue;
+      }
+      Vec3 gap = Vec3::Zero();
+      for (int k = 0; k < 4; ++k) gap += cp.weight[k] * end.col(c.pair.v[k]);
+      const Vec3 normal = gap / cp.distance;
+      if (!(normal.dot(c.normal) > 0.0)) continue;
+      ContactForces::SelfPair& p = listed_[i];
+      p.vertex = c.pair.v;
+      p.weight = cp.weight;
+      p.normal = normal;
+      p.distance = c.contact_distance;
+      p.mu = friction_;
+      p.edges = c.pair.kind == PairKind::kEdgeEdge;
+      keep_[i] = 1;
     }
-    Vec3 gap = Vec3::Zero();
-    for (int k = 0; k < 4; ++k) gap += cp.weight[k] * end.col(c.pair.v[k]);
-    const Vec3 normal = gap / cp.distance;
-    if (!(normal.dot(c.normal) > 0.0)) continue;
-    ContactForces::SelfPair p;
-    p.vertex = c.pair.v;
-    p.weight = cp.weight;
-    p.normal = normal;
-    p.distance = c.contact_distance;
-    p.mu = friction_;
-    p.edges = c.pair.kind == PairKind::kEdgeEdge;
-    solve_pairs_.push_back(p);
+  });
+  for (std::size_t i = 0; i < listed_.size(); ++i) {
+    if (keep_[i]) solve_pairs_.push_back(listed_[i]);
   }
 }
 

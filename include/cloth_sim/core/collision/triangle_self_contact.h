@@ -113,6 +113,8 @@ class TriangleSelfContact {
   std::vector<PairContact> contacts_;
   std::vector<int> active_;
   std::vector<ContactForces::SelfPair> solve_pairs_;
+  std::vector<ContactForces::SelfPair> listed_;  ///< listSolvePairs' work buffers
+  std::vector<char> keep_;
   std::vector<char> skip_, tangled_vertex_, pushed_;
   std::vector<std::pair<int, int>> tangled_;
   Points last_end_, before_, carry_, untangle_;
