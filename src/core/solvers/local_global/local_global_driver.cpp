@@ -5,11 +5,19 @@
 namespace cloth_sim {
 
 SolveResult runLocalGlobal(LocalGlobalProblem& problem, Acceleration* acceleration,
-                           IterationHooks& hooks, const SolverSettings& settings, State& state) {
+                           IterationHooks& hooks, const SolverSettings& settings, State& state,
+                           LocalGlobalIterates& iterates) {
   hooks.clearTrace();
-  const NodeBuffer start = problem.initialGuess(settings);
+  iterates.start = problem.initialGuess(settings);
+  const NodeBuffer& start = iterates.start;
   // x_hat = G(x) (the plain iterate), x_hat_prev = G(x_prev): the fallbacks of the safeguard.
-  NodeBuffer x = start, x_prev = start, x_hat(x.size()), x_hat_prev(x.size()), x_next(x.size());
+  NodeBuffer &x = iterates.x, &x_prev = iterates.x_prev, &x_hat = iterates.x_hat,
+             &x_hat_prev = iterates.x_hat_prev, &x_next = iterates.x_next;
+  x = start;
+  x_prev = start;
+  x_hat.assign(start.size(), 0.0);
+  x_hat_prev.assign(start.size(), 0.0);
+  x_next.assign(start.size(), 0.0);
   double g_prev = std::numeric_limits<double>::infinity();
   bool accelerated = false;  // whether x came from an extrapolation
   int solves = 0;

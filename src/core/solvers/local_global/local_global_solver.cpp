@@ -6,7 +6,7 @@ SolveResult LocalGlobalSolver::step(const SolverInput& input, const SolverSettin
                                     State& state) {
   factorizations_ += problem_.begin(input, settings, state);
   if (acceleration_ != nullptr) acceleration_->begin(input, settings);
-  return runLocalGlobal(problem_, acceleration_, hooks_, settings, state);
+  return runLocalGlobal(problem_, acceleration_, hooks_, settings, state, iterates_);
 }
 
 }  // namespace cloth_sim

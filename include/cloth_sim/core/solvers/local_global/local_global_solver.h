@@ -33,6 +33,7 @@ class LocalGlobalFamily : public Solver {
  protected:
   LocalGlobalProblem problem_;
   IterationHooks hooks_;
+  LocalGlobalIterates iterates_;  ///< runLocalGlobal's buffers
 };
 
 /// Block coordinate descent on the implicit Euler objective g (LocalGlobalProblem,
