@@ -49,7 +49,9 @@ struct StepReport {
   int rejected_substeps = 0;
   double convergence = 0.0;  ///< relative position change of the last iteration (last substep)
   bool converged = false;    ///< the solver tolerance was reached
-  double solve_time = 0.0;   ///< s of wall time in the solver (all substeps)
+  /// s of wall time in the solver (all substeps; its self-contact pairs also count in
+  /// self_contact_time)
+  double solve_time = 0.0;
   double wall_time = 0.0;    ///< s of wall time for the whole step (solve, contacts, checks)
   /// Contacts of the frame, summed over its substeps: contact forces that pushed in the solve
   /// plus particles moved out of a collider by the projection after it.
@@ -59,7 +61,8 @@ struct StepReport {
   /// Pairs of triangles sharing no vertex that intersect after the step (IntersectionCounter):
   /// 0 for a cloth that did not pass through itself; -1 = not counted (self-collision off).
   int intersections = -1;
-  double self_contact_time = 0.0;  ///< s of wall time in self-contact (bound and projection)
+  /// s of wall time in self-contact (bound, projection, and its pairs' share of the solve)
+  double self_contact_time = 0.0;
   double intersection_time = 0.0;  ///< s of wall time in the intersection counter
   double max_strain = 0.0;         ///< max |l - r| / r over the springs after the step
   /// Substeps of this frame whose implicit midpoint step gained energy and were redone as two
