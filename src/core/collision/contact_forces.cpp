@@ -130,15 +130,15 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
   });
   indexVertices(particle_node);
   placeBodies();
-  beginPairs(y, compliance, particle_node);
+  beginPairs(compliance, particle_node);
 }
 
-void ContactForces::beginPairs(const Points& y, const Eigen::VectorXd& compliance,
+void ContactForces::beginPairs(const Eigen::VectorXd& compliance,
                                const std::vector<int>& particle_node) {
   pairs_.clear();
   if (self_pairs_.empty()) return;
   Stopwatch watch(self_pair_seconds_);
-  const std::size_t n = static_cast<std::size_t>(y.cols());
+  const std::size_t n = static_cast<std::size_t>(start_.cols());
   if (vertex_pair_force_.size() != n) {
     vertex_pair_force_.assign(n, 0.0);
     edge_pair_force_.assign(n, 0.0);

@@ -37,6 +37,16 @@ PairPoints pairPoints(const PairCandidate& pair, const Points& x) {
   return {x.col(pair.v[0]), x.col(pair.v[1]), x.col(pair.v[2]), x.col(pair.v[3])};
 }
 
+/// Unit vector from the second primitive's closest point to the first's at @p x (@p cp there);
+/// zero when they are within @p touching of each other (no side to push to).
+Vec3 pairNormal(const PairCandidate& pair, const ClosestPoints& cp, const Points& x,
+                double touching) {
+  if (!(cp.distance > touching)) return Vec3::Zero();
+  Vec3 gap = Vec3::Zero();
+  for (int k = 0; k < 4; ++k) gap += cp.weight[k] * x.col(pair.v[k]);
+  return gap / cp.distance;
+}
+
 }  // namespace
 
 void TriangleContactStats::add(const TriangleContactStats& s) {
@@ -107,11 +117,7 @@ void TriangleSelfContact::setContact(const CollisionStep& step, std::size_t inde
   const ClosestPoints cp = closestPoints(c.pair.kind, pairPoints(c.pair, step.start));
   c.weight = cp.weight;
   c.start_distance = cp.distance;
-  if (cp.distance > 1e-9 * t) {
-    Vec3 gap = Vec3::Zero();
-    for (int k = 0; k < 4; ++k) gap += c.weight[k] * step.start.col(c.pair.v[k]);
-    c.normal = gap / cp.distance;
-  }
+  c.normal = pairNormal(c.pair, cp, step.start, 1e-9 * t);
   char skip = 0;
   if (!tangled_.empty()) {  // both sides in the tangle: free to pass back through each other
     const auto& v = c.pair.v;
@@ -223,14 +229,9 @@ void TriangleSelfContact::listSolvePairs(const Points& end) {
     for (std::size_t i = split.begin(b); i < split.end(b); ++i) {
       const PairContact& c = contacts_[active_[i]];
       const ClosestPoints cp = closestPoints(c.pair.kind, pairPoints(c.pair, end));
-      if (!(cp.distance > 1e-9 * thickness_) ||
-          cp.distance >= (1.0 + kNear) * c.contact_distance) {
-        continue;
-      }
-      Vec3 gap = Vec3::Zero();
-      for (int k = 0; k < 4; ++k) gap += cp.weight[k] * end.col(c.pair.v[k]);
-      const Vec3 normal = gap / cp.distance;
-      if (!(normal.dot(c.normal) > 0.0)) continue;
+      if (cp.distance >= (1.0 + kNear) * c.contact_distance) continue;
+      const Vec3 normal = pairNormal(c.pair, cp, end, 1e-9 * thickness_);
+      if (!(normal.dot(c.normal) > 0.0)) continue;  // touching, or seen from the other side
       ContactForces::SelfPair& p = listed_[i];
       p.vertex = c.pair.v;
       p.weight = cp.weight;

@@ -102,8 +102,7 @@ void SubstepPipeline::collide(const SubstepWorld& world, const PinSet& pins, dou
   if (triangles != nullptr) {
     contacts_.swapSelfPairs(triangles->solvePairs());
   } else {
-    std::vector<ContactForces::SelfPair> none;
-    contacts_.swapSelfPairs(none);
+    contacts_.clearSelfPairs();
   }
   report.self_contact_time += contacts_.takeSelfPairSeconds();
   if (!touched_.empty()) {  // moved after the solve: a collider or the cloth itself corrected it

@@ -82,6 +82,8 @@ class ContactForces {
   /// Swaps @p pairs with the self-contact pairs the next steps' begin() reads (kept as the
   /// warm start is: a copy of this object, as in a snapshot, keeps them).
   void swapSelfPairs(std::vector<SelfPair>& pairs) { self_pairs_.swap(pairs); }
+  /// No self-contact pairs in the next steps (self-contact off, or in mode particles).
+  void clearSelfPairs() { self_pairs_.clear(); }
   /// Wall time (s) of the self-contact pairs' set-up, updates and forces since the last call:
   /// self-contact's share of the solve (StepReport::self_contact_time).
   double takeSelfPairSeconds();
@@ -243,8 +245,7 @@ class ContactForces {
     std::array<int, 4> offset{};  ///< the particles' first double in the node buffers
   };
   /// Lists pairs_ from self_pairs_ (begin): responses, offsets, warm starts.
-  void beginPairs(const Points& y, const Eigen::VectorXd& compliance,
-                  const std::vector<int>& particle_node);
+  void beginPairs(const Eigen::VectorXd& compliance, const std::vector<int>& particle_node);
   std::vector<SelfPair> self_pairs_;  ///< swapSelfPairs' pairs
   std::vector<PairForce> pairs_;
   /// Last step's pair forces (N) summed on each pair's vertex[0], vertex pairs and edge pairs
