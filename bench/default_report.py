@@ -6,7 +6,9 @@ accuracy_reference.csv, local_error.csv) from one or more directories and writes
 first directory given after --out:
 - default.md: per case at 1 s, the default's RMS error over the diagonal, the reference's own
   error (its distance to the same run at twice its step), its max strain and energy over the
-  reference's, the ms per frame (wall and CPU, median) and the mean substeps,
+  reference's, how much the reference's own energy moves when its step doubles (energy_2h; not
+  in results from before that column), the ms per frame (wall and CPU, median) and the mean
+  substeps,
   each bar marked; then, per case, the estimate of each probed frame over its true local error
   (the truncation estimate alone, and the whole one: plus the iteration errors carried).
 - local_error.png: whole estimate against true local error (m per frame), log-log, with the line of
@@ -51,6 +53,13 @@ def reference_errors(references):
             if r["time"] and float(r["time"]) == 1.0}
 
 
+def reference_energy_changes(references):
+    """case -> |E(2 h) / E(h) - 1| of the reference at 1 s (absent from older results)."""
+    return {r["case"]: abs(float(r["energy_2h"]) / float(r["energy"]) - 1.0) for r in references
+            if r["time"] and float(r["time"]) == 1.0 and r.get("energy_2h")
+            and float(r["energy"]) != 0.0}
+
+
 def rms_held(rms, reference_error):
     """The RMS bar: 2 % of the diagonal, or, where the motion is so sensitive that the
     reference's own error is comparable, 1.2x that error (the bar marks which held)."""
@@ -63,8 +72,10 @@ def rms_held(rms, reference_error):
 
 def default_table(rows, references):
     floors = reference_errors(references)
+    energy_changes = reference_energy_changes(references)
     lines = ["| case | RMS / diagonal | reference's own error | max strain / ref | energy / ref "
-             "| ms per frame (CPU) | mean substeps |", "|---|---|---|---|---|---|---|"]
+             "| reference's own energy change | ms per frame (CPU) | mean substeps |",
+             "|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if r["solver"] != "default" or not r["time"] or float(r["time"]) != 1.0:
             continue
@@ -73,12 +84,14 @@ def default_table(rows, references):
         _, rms_mark = rms_held(rms, floor)
         strain = float(r["max_strain"]) / float(r["ref_max_strain"])
         energy = float(r["energy_ratio"])
+        change = energy_changes.get(r["case"])
         wall, cpu = float(r["frame_ms_median"]), float(r["cpu_ms_median"])
         lines.append(
             f"| {r['case']} | {100 * rms:.2f} %{rms_mark} "
             f"| {'-' if floor is None else f'{100 * floor:.2f} %'} "
             f"| {strain:.2f}{_mark(strain <= STRAIN_BAR)} "
             f"| {energy:.3f}{_mark(abs(energy - 1) <= ENERGY_BAR)} "
+            f"| {'-' if change is None else f'{100 * change:.1f} %'} "
             f"| {wall:.1f} ({cpu:.1f}){_mark(wall <= FRAME_MS)} "
             f"| {float(r['mean_substeps']):.1f} |")
     return lines

@@ -100,6 +100,8 @@ struct TrueMotion {
   std::vector<Points> positions;   ///< the finer run (h) at each sample frame: the truth
   std::vector<Points> coarse;      ///< the run at 2 h: its distance to the truth is the floor
   std::vector<double> energy;      ///< J, Simulation::totalEnergy of the finer run
+  /// J, the same of the run at 2 h: how far the truth's own energy moves with its step.
+  std::vector<double> coarse_energy;
   std::vector<double> mean_strain; ///< mean |l - r| / r over the springs, finer run
   std::vector<double> max_strain;
 };
