@@ -93,7 +93,7 @@ int verletSubsteps(const SceneConfig& scene);
 /// AccuracyOptions::cache_dir): the reference run at h and at h / 2 (see
 /// AccuracyOptions::reference). Other benchmarks (cloth_sim_bench peers) measure against it.
 struct TrueMotion {
-  std::string kind;                ///< "verlet" or "implicit"
+  std::string kind;                ///< "verlet", "implicit" or "bdf2" (referenceKind)
   double h = 0.0;                  ///< s, the finer run's step
   double diagonal = 0.0;           ///< m, of the cloth's bounding box at rest (the error scale)
   std::vector<int> frames;         ///< the sample frames (times / frame, rounded)
