@@ -213,7 +213,7 @@ int main(int argc, char** argv) {
   accuracy_cmd->add_flag("--warm-start", accuracy.warm_start,
                          warm + ": warm-started steps (label +warm)");
   accuracy_cmd->add_option("--max-frame-ms", accuracy.max_frame_ms,
-                           "stop a configuration slower than this per frame")
+                           "stop a configuration slower than this per frame (never the scene's default)")
       ->capture_default_str()->check(CLI::PositiveNumber);
 
   PeersOptions peers;
