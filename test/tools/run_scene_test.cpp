@@ -45,7 +45,8 @@ TEST(RunScene, WritesOneCsvRowPerStepAndTheFinalPositions) {
   EXPECT_EQ(table.rfind("step,time,wall_ms,solve_ms,iterations,convergence,converged,max_strain,"
                         "energy,contacts,status,self_contacts,intersections,self_contact_ms,"
                         "intersection_ms,substeps,total_iterations,iteration_error,error_estimate,"
-                        "rejected_substeps,carried_iteration_error\n", 0), 0u);
+                        "rejected_substeps,carried_iteration_error,cut_substeps,"
+                        "merged_substeps\n", 0), 0u);
   EXPECT_NE(table.find("\n6,0.1,"), std::string::npos);
   EXPECT_NE(table.find(",3,"), std::string::npos);  // the iteration count took effect
   EXPECT_EQ(countLines(slurp(positions)), 1 + 32 * 32);
@@ -112,6 +113,46 @@ TEST(RunScene, ToleranceIsInZeroToOne) {
   }
   EXPECT_EQ(run("--scene " + kScene + " --duration 0.05 --tolerance 0.999"), 0);
   EXPECT_EQ(run("--scene " + kScene + " --duration 0.05 --tolerance 0"), 0);
+}
+
+/// The last two fields of each data row of CSV @p table: cut_substeps + merged_substeps.
+std::vector<int> shortfalls(const std::string& table) {
+  std::vector<int> out;
+  std::istringstream lines(table);
+  std::string line;
+  std::getline(lines, line);  // the header
+  while (std::getline(lines, line)) {
+    const std::size_t last = line.rfind(','), before = line.rfind(',', last - 1);
+    out.push_back(std::stoi(line.substr(before + 1, last - before - 1)) +
+                  std::stoi(line.substr(last + 1)));
+  }
+  return out;
+}
+
+TEST(RunScene, FrameDeadlineCutsAFrameTooLongAndSaysSo) {
+  // 100,000 iterations a substep take seconds a frame: the deadline cuts each frame, and the
+  // CSV says so. Without one the same frames do all their work (0 and 0).
+  const std::string cut = tmp("deadline.csv"), whole = tmp("no_deadline.csv");
+  ASSERT_EQ(run("--scene " + kScene + " --duration 0.05 --iterations 100000 --tolerance 0 "
+                "--error-tolerance 0 --frame-deadline-ms 20 --csv " + cut),
+            0);
+  const std::vector<int> cut_rows = shortfalls(slurp(cut));
+  ASSERT_EQ(cut_rows.size(), 3u);
+  for (const int s : cut_rows) EXPECT_GT(s, 0);
+  ASSERT_EQ(run("--scene " + kScene + " --duration 0.05 --iterations 3 --error-tolerance 0 --csv " +
+                whole),
+            0);
+  const std::vector<int> whole_rows = shortfalls(slurp(whole));
+  ASSERT_EQ(whole_rows.size(), 3u);
+  for (const int s : whole_rows) EXPECT_EQ(s, 0);
+  const std::string dir = ::testing::TempDir() + "cloth_sim_run_deadline";
+  ASSERT_EQ(std::system(("mkdir -p '" + dir + "'").c_str()), 0);
+  for (const char* bad : {"-1", "60001", "nan", "soon"}) {
+    std::string err;
+    EXPECT_EQ(runCapturing(dir, "--scene " + kScene + " --frame-deadline-ms " + bad, err), 1)
+        << bad;
+    EXPECT_NE(err.find("--frame-deadline-ms"), std::string::npos) << err;
+  }
 }
 
 TEST(RunScene, IntegratorOptionRunsBdf2AndRefusesWhatCannotUseIt) {

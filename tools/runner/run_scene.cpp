@@ -23,6 +23,7 @@ struct Options {
   std::string scene_path, solver, linear_solver, integrator, csv, json, positions;
   std::optional<int> iterations, substeps, threads;
   std::optional<double> dt, tolerance, error_tolerance, fold;
+  double frame_deadline_ms = 0.0;
   std::optional<int> resolution;
   std::string self_collision;
   double duration = 5.0;
@@ -142,6 +143,11 @@ int main(int argc, char** argv) {
                  "carry the scene's first pin over the cloth to the vertex farthest from it in "
                  "this many s, then let go (the fold scene's script)")
       ->check(allowedBy(settings::kFoldTime));
+  app.add_option("--frame-deadline-ms", o.frame_deadline_ms,
+                 "wall-clock ms a frame may take before its work is cut: iterations stop and its "
+                 "remaining substeps run as one (0 = never, the default: the same results on any "
+                 "machine); the CSV's cut_substeps and merged_substeps say when")
+      ->check(allowedBy(settings::kFrameDeadline));
   app.add_flag("--check", o.check,
                "load and build the scene with the options, run nothing: exit 0 if it can be run");
   try {
@@ -183,6 +189,7 @@ int main(int argc, char** argv) {
       throw std::runtime_error(std::string("--resolution: ") + e.what());
     }
     Simulation sim = makeSimulation(scene);
+    sim.setFrameDeadline(1e-3 * o.frame_deadline_ms);
     if (o.check) return 0;  // the scene and the options are usable (scripts/run_demo.sh)
     std::optional<tools::FoldScript> fold;
     if (o.fold) fold.emplace(sim, *o.fold);
@@ -221,7 +228,7 @@ int main(int argc, char** argv) {
     }
     tools::ProgressBar progress(steps);
     double wall = 0.0;
-    int failures = 0;
+    int failures = 0, cut_frames = 0;
     for (int k = 1; k <= steps; ++k) {
       tools::StepRecord record;
       if (fold) fold->beforeStep(sim);
@@ -230,6 +237,7 @@ int main(int argc, char** argv) {
       record.time = sim.state().time;
       record.energy = sim.totalEnergy();
       wall += record.report.wall_time;
+      cut_frames += record.report.shortfall() ? 1 : 0;
       if (log) log->write(record);
       if (record.report.status != StepStatus::kOk) {
         ++failures;
@@ -245,6 +253,10 @@ int main(int argc, char** argv) {
       progress.update(k, sim.state().time, 1e3 * wall / k);
     }
     progress.finish();
+    if (summary && cut_frames > 0) {
+      std::printf("%d of %d frames cut at the %g ms --frame-deadline-ms\n", cut_frames, steps,
+                  o.frame_deadline_ms);
+    }
     if (log) log->end();
     if (!o.positions.empty()) {
       openNamed("--positions", o.positions,

@@ -44,7 +44,7 @@ StepLog::StepLog(const std::string& path, Format format) : out_(&std::cout), for
     *out_ << "step,time,wall_ms,solve_ms,iterations,convergence,converged,max_strain,energy,"
              "contacts,status,self_contacts,intersections,self_contact_ms,intersection_ms,substeps,"
              "total_iterations,iteration_error,error_estimate,rejected_substeps,"
-             "carried_iteration_error\n";
+             "carried_iteration_error,cut_substeps,merged_substeps\n";
   }
 }
 
@@ -81,7 +81,9 @@ void StepLog::write(const StepRecord& r) {
           << ", \"iteration_error\": " << number(s.iteration_error, true)
           << ", \"error_estimate\": " << number(s.error_estimate, true)
           << ", \"rejected_substeps\": " << s.rejected_substeps
-          << ", \"carried_iteration_error\": " << number(s.carried_iteration_error, true) << "}";
+          << ", \"carried_iteration_error\": " << number(s.carried_iteration_error, true)
+          << ", \"cut_substeps\": " << s.cut_substeps
+          << ", \"merged_substeps\": " << s.merged_substeps << "}";
   } else {
     *out_ << r.step << ',' << number(r.time, false) << ',' << number(1e3 * s.wall_time, false)
           << ',' << number(1e3 * s.solve_time, false) << ',' << s.iterations << ','
@@ -92,7 +94,8 @@ void StepLog::write(const StepRecord& r) {
           << number(1e3 * s.intersection_time, false) << ',' << s.substeps << ','
           << s.total_iterations << ',' << number(s.iteration_error, false) << ','
           << number(s.error_estimate, false) << ',' << s.rejected_substeps << ','
-          << number(s.carried_iteration_error, false) << '\n';
+          << number(s.carried_iteration_error, false) << ',' << s.cut_substeps << ','
+          << s.merged_substeps << '\n';
   }
   first_ = false;
 }

@@ -172,10 +172,19 @@ StepReport Simulation::runFrame(std::chrono::steady_clock::time_point t0, const 
     int last = k;
     if (k > 1 && k < n && std::chrono::steady_clock::now() >= world.deadline) {
       // Past the deadline: the rest of the frame as one implicit step (stable, less accurate),
-      // so that no setting holds the caller much longer than the deadline.
-      hk = frame_end - state_.time;
-      last = n;
-      report.merged_substeps = n - k + 1;
+      // so that no setting holds the caller much longer than the deadline. With self-contact,
+      // in steps of about a kDeadlineSelfContactSteps-th of the frame instead.
+      const int group =
+          self_contact_ ? (n + kDeadlineSelfContactSteps - 1) / kDeadlineSelfContactSteps : n;
+      // Each of them keeps two iterations: one left the pushes after it to undo most of the
+      // step (the pile above: 37 J at 1 s against the reference's 0.37 J, measured).
+      if (self_contact_) world.min_iterations_at_deadline = kDeadlineSelfContactIterations;
+      last = std::min(n, k + group - 1);
+      hk = last == n ? frame_end - state_.time : (last - k + 1) * h;
+      if (last > k) report.merged_substeps += last - k + 1;
+      // The first longer step restarts as implicit Euler: BDF2 over a step many times the one
+      // before (omega > 1 + sqrt 2) is not zero-stable.
+      if (last > k && hk > 2.0 * h) state_.has_previous = false;
     }
     // A grasp's frame is asked where it is at the end of each substep, so a moving gripper
     // carries the cloth continuously, not in one jump a frame.
@@ -183,6 +192,7 @@ StepReport Simulation::runFrame(std::chrono::steady_clock::time_point t0, const 
     colliders_.mutableBodies().place(state_.time + hk, body_pose_source_);  // bodies likewise
     substep_.run(world, pins, hk, revision_, iteration_tolerance, tolerance > 0.0, report);
     if (last == n) break;
+    k = last;
   }
   if (tolerance > 0.0) report.error_estimate = substep_.frameErrorEstimate();
   report.max_strain = maxStrain(model_.springs, state_.positions);

@@ -49,6 +49,7 @@ void SubstepPipeline::collide(const SubstepWorld& world, const PinSet& pins, dou
   SolverInput input{model, pins, h, revision, collide ? &contacts_ : nullptr};
   input.iteration_tolerance = iteration_tolerance;
   input.deadline = world.deadline;
+  input.min_iterations_at_deadline = world.min_iterations_at_deadline;
   if (loads) reactions_.begin(input, state, world.settings.integrator);
   if (!collide) {
     solve(world, input, report);

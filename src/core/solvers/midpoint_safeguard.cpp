@@ -39,6 +39,7 @@ SolveResult MidpointSafeguard::step(const SolverInput& input, const SolverSettin
     SolverInput half{input.model, input.pins, 0.5 * input.h, input.revision, nullptr};
     half.iteration_tolerance = 0.5 * input.iteration_tolerance;  // two steps share it
     half.deadline = input.deadline;
+    half.min_iterations_at_deadline = input.min_iterations_at_deadline;
     inner_->step(half, euler, state);
     solved = inner_->step(half, euler, state);
     state.time = before.time + input.h;

@@ -194,7 +194,7 @@ SolveResult NewtonSolver::minimize(const SolverInput& in, const SolverSettings& 
     result.convergence = alpha * dx.norm() / std::max((x - problem.inertial).norm(),
                                                       std::numeric_limits<double>::min());
     near = exact || (alpha == 1.0 && full_step < 1e-2);
-    if (it + 1 < settings.max_iterations && in.pastDeadline()) {
+    if (it + 1 < settings.max_iterations && in.pastDeadline(it + 1)) {
       result.cut = true;
       break;
     }

@@ -32,6 +32,8 @@ struct SubstepWorld {
   std::vector<Vec3>& pin_loads;  ///< N, per pin of the substep (PinReactions)
   /// The frame's deadline (SolverInput::deadline; max(): none).
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  /// SolverInput::min_iterations_at_deadline.
+  int min_iterations_at_deadline = 1;
 };
 
 /// One implicit step of h, in this order:

@@ -216,13 +216,17 @@ struct SolverInput {
   /// then resolves contacts after the step).
   ContactForces* contacts = nullptr;
   /// Wall-clock time after which an iterative solver stops iterating (after its first
-  /// iteration) and says so (SolveResult::cut): Simulation's frame deadline, so that no setting
-  /// holds the caller for longer than that. max(): never (the default: same results on any
-  /// machine).
+  /// min_iterations_at_deadline iterations) and says so (SolveResult::cut): Simulation's frame
+  /// deadline, so that no setting holds the caller for longer than that. max(): never (the
+  /// default: same results on any machine).
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
-  /// Whether the deadline has passed.
-  bool pastDeadline() const {
-    return deadline != std::chrono::steady_clock::time_point::max() &&
+  /// Iterations a step keeps past the deadline (>= 1): 2 in the steps a deadline leaves to
+  /// self-contact (Simulation::kDeadlineSelfContactSteps).
+  int min_iterations_at_deadline = 1;
+  /// Whether a solver that has done @p done iterations stops here for the deadline.
+  bool pastDeadline(int done) const {
+    return done >= min_iterations_at_deadline &&
+           deadline != std::chrono::steady_clock::time_point::max() &&
            std::chrono::steady_clock::now() >= deadline;
   }
 };

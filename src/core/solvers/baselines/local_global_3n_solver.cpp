@@ -72,7 +72,7 @@ SolveResult LocalGlobal3nSolver::step(const SolverInput& in, const SolverSetting
       result.converged = true;
       break;
     }
-    if (k + 1 < settings.max_iterations && in.pastDeadline()) {
+    if (k + 1 < settings.max_iterations && in.pastDeadline(k + 1)) {
       result.cut = true;
       break;
     }

@@ -116,7 +116,7 @@ SolveResult XpbdSolver::step(const SolverInput& in, const SolverSettings& settin
   int sweeps = settings.max_iterations;
   bool cut = false;
   for (int sweep = 0; sweep < sweeps; ++sweep) {
-    if (sweep > 0 && in.pastDeadline()) {
+    if (in.pastDeadline(sweep)) {
       sweeps = sweep;
       cut = true;
       break;

@@ -136,7 +136,7 @@ SolveResult LbfgsSolver::step(const SolverInput& in, const SolverSettings& setti
       result.converged = true;
       break;
     }
-    if (solves < settings.max_iterations && in.pastDeadline()) {
+    if (solves < settings.max_iterations && in.pastDeadline(solves)) {
       result.cut = true;
       break;
     }

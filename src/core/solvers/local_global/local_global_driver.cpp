@@ -73,7 +73,7 @@ SolveResult runLocalGlobal(LocalGlobalProblem& problem, Acceleration* accelerati
       result.converged = true;
       break;
     }
-    if (solves < max_solves && problem.pastDeadline()) {
+    if (solves < max_solves && problem.pastDeadline(solves)) {
       result.cut = true;
       break;
     }

@@ -96,6 +96,7 @@ int LocalGlobalProblem::begin(const SolverInput& in, const SolverSettings& setti
   h_ = problem_.implicit_h;
   iteration_tolerance_ = in.iteration_tolerance;
   deadline_ = in.deadline;
+  min_iterations_at_deadline_ = in.min_iterations_at_deadline;
   const int factorizations = useFactor(in, settings.linear_solver, h_);
   // Every kept factor solves on this step's threads, the ones made before too (the count may
   // change between steps; the results do not depend on it).

@@ -96,9 +96,11 @@ class LocalGlobalProblem {
   double rmsDistance(const NodeBuffer& a, const NodeBuffer& b) const;
   /// m, SolverInput::iteration_tolerance of this step (0: none).
   double iterationTolerance() const { return iteration_tolerance_; }
-  /// Whether the step's SolverInput::deadline has passed.
-  bool pastDeadline() const {
-    return deadline_ != std::chrono::steady_clock::time_point::max() &&
+  /// Whether a step that has done @p done solves stops here for its SolverInput::deadline
+  /// (SolverInput::pastDeadline).
+  bool pastDeadline(int done) const {
+    return done >= min_iterations_at_deadline_ &&
+           deadline_ != std::chrono::steady_clock::time_point::max() &&
            std::chrono::steady_clock::now() >= deadline_;
   }
   /// Free nodes: they come first in the node order, hard-pinned nodes after them.
@@ -155,6 +157,7 @@ class LocalGlobalProblem {
   double iteration_tolerance_ = 0.0;  ///< m, SolverInput::iteration_tolerance
   /// SolverInput::deadline of the step.
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
+  int min_iterations_at_deadline_ = 1;
   Vec3 gravity_ = Vec3::Zero();
   int threads_ = 1;                 ///< the kernels' threads (SolverSettings::threads, resolved)
 
