@@ -97,8 +97,8 @@ TEST(FrameDeadline, WithSelfContactACutFrameStaysWholeAndUncrossed) {
   // The pile at the format's default (error control, about 100 substeps a frame of many
   // iterations, so every frame passes a 5 ms deadline): the rest of a cut frame as one step
   // handed self-contact the frame's whole motion, and the pile blew up (1e8 J, rolled back) in
-  // frames of up to 47 s. Now the rest runs as 8 steps of 2 iterations each, the first as
-  // implicit Euler.
+  // frames of up to 47 s. Now the rest runs as 8 steps of 6 iterations each, as implicit Euler,
+  // and the pile gains no energy.
   SceneConfig scene = loadSceneFile(std::string(CLOTH_SIM_SOURCE_DIR) + "/config/scenes/pile.yaml");
   SceneOverrides o;
   o.substeps = 0;
@@ -120,7 +120,7 @@ TEST(FrameDeadline, WithSelfContactACutFrameStaysWholeAndUncrossed) {
   std::printf("pile, 5 ms deadline: %d of 30 frames cut, energy at most %.3f J (start %.3f J)\n",
               cut, most, start_energy);
   EXPECT_GT(cut, 0);
-  EXPECT_LT(most, 1.5 * start_energy);
+  EXPECT_LT(most, 1.1 * start_energy);
 }
 
 TEST(FrameDeadline, BadDeadlinesAreRefused) {
