@@ -3,6 +3,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <initializer_list>
 #include <random>
 #include <sstream>
 #include <string>
@@ -99,18 +100,27 @@ TEST(RunScene, ARunTooLongToCountIsRefused) {
 
 int runCapturing(const std::string& dir, const std::string& args, std::string& err);
 
+/// Each of @p bads given to @p option exits with 1 and a message naming the option (and
+/// @p rule, when not empty).
+void expectRefused(const std::string& option, std::initializer_list<const char*> bads,
+                   const std::string& rule) {
+  const std::string dir = ::testing::TempDir() + "cloth_sim_run_refused";
+  ASSERT_EQ(std::system(("mkdir -p '" + dir + "'").c_str()), 0);
+  for (const char* bad : bads) {
+    std::string err;
+    EXPECT_EQ(runCapturing(dir, "--scene " + kScene + " --duration 0.05 " + option + " " + bad,
+                           err),
+              1)
+        << bad;
+    EXPECT_NE(err.find(option), std::string::npos) << err;
+    if (!rule.empty()) EXPECT_NE(err.find(rule), std::string::npos) << err;
+  }
+}
+
 TEST(RunScene, ToleranceIsInZeroToOne) {
   // A relative change is 1 at the first iteration: --tolerance 2 stopped every step after one
   // iteration without a word. Now [0, 1), refused naming the option and the rule.
-  const std::string dir = ::testing::TempDir() + "cloth_sim_run_tolerance";
-  ASSERT_EQ(std::system(("mkdir -p '" + dir + "'").c_str()), 0);
-  for (const char* bad : {"2", "1", "-0.1", "nan"}) {
-    std::string err;
-    EXPECT_EQ(runCapturing(dir, "--scene " + kScene + " --duration 0.05 --tolerance " + bad, err), 1)
-        << bad;
-    EXPECT_NE(err.find("--tolerance"), std::string::npos) << err;
-    EXPECT_NE(err.find("must be in [0, 1)"), std::string::npos) << err;
-  }
+  expectRefused("--tolerance", {"2", "1", "-0.1", "nan"}, "must be in [0, 1)");
   EXPECT_EQ(run("--scene " + kScene + " --duration 0.05 --tolerance 0.999"), 0);
   EXPECT_EQ(run("--scene " + kScene + " --duration 0.05 --tolerance 0"), 0);
 }
@@ -145,14 +155,7 @@ TEST(RunScene, FrameDeadlineCutsAFrameTooLongAndSaysSo) {
   const std::vector<int> whole_rows = shortfalls(slurp(whole));
   ASSERT_EQ(whole_rows.size(), 3u);
   for (const int s : whole_rows) EXPECT_EQ(s, 0);
-  const std::string dir = ::testing::TempDir() + "cloth_sim_run_deadline";
-  ASSERT_EQ(std::system(("mkdir -p '" + dir + "'").c_str()), 0);
-  for (const char* bad : {"-1", "60001", "nan", "soon"}) {
-    std::string err;
-    EXPECT_EQ(runCapturing(dir, "--scene " + kScene + " --frame-deadline-ms " + bad, err), 1)
-        << bad;
-    EXPECT_NE(err.find("--frame-deadline-ms"), std::string::npos) << err;
-  }
+  expectRefused("--frame-deadline-ms", {"-1", "60001", "nan", "soon"}, "");
 }
 
 TEST(RunScene, IntegratorOptionRunsBdf2AndRefusesWhatCannotUseIt) {

@@ -173,18 +173,20 @@ StepReport Simulation::runFrame(std::chrono::steady_clock::time_point t0, const 
     if (k > 1 && k < n && std::chrono::steady_clock::now() >= world.deadline) {
       // Past the deadline: the rest of the frame as one implicit step (stable, less accurate),
       // so that no setting holds the caller much longer than the deadline. With self-contact,
-      // in steps of about a kDeadlineSelfContactSteps-th of the frame instead.
+      // in steps of about a kDeadlineSelfContactSteps-th of the frame of a few iterations each
+      // (one step, or one iteration, left the pushes after the solve to undo most of it: the
+      // pile at the default with a 50 ms deadline diverged, measured).
       const int group =
           self_contact_ ? (n + kDeadlineSelfContactSteps - 1) / kDeadlineSelfContactSteps : n;
-      // Each of them keeps a few iterations: with one, the pushes after it undid most of the
-      // step (the pile above: 37 J at 1 s against its reference's 0.37 J, measured).
       if (self_contact_) world.min_iterations_at_deadline = kDeadlineSelfContactIterations;
       last = std::min(n, k + group - 1);
       hk = last == n ? frame_end - state_.time : (last - k + 1) * h;
-      if (last > k) report.merged_substeps += last - k + 1;
-      // A merged step runs as implicit Euler: BDF2 over a step many times the one before
-      // (omega > 1 + sqrt 2) is not zero-stable.
-      if (last > k) state_.has_previous = false;
+      if (last > k) {
+        report.merged_substeps += last - k + 1;
+        // As implicit Euler: BDF2 over a step many times the one before (omega > 1 + sqrt 2)
+        // is not zero-stable.
+        state_.has_previous = false;
+      }
     }
     // A grasp's frame is asked where it is at the end of each substep, so a moving gripper
     // carries the cloth continuously, not in one jump a frame.

@@ -190,15 +190,13 @@ class Simulation {
   }
   /// Wall-clock time (s) a frame may take before its work is cut (0: never, the default, which
   /// gives the same results on any machine). Past it, each solver stops iterating after its
-  /// current iteration and the frame's remaining substeps run as one implicit step to the
-  /// frame's end (with self-contact on, as steps of about frame / kDeadlineSelfContactSteps),
-  /// as implicit Euler;
+  /// current iteration and the frame's remaining substeps run as one implicit Euler step to the
+  /// frame's end (with self-contact on, as steps of about frame / kDeadlineSelfContactSteps);
   /// StepReport::cut_substeps and merged_substeps say so. The frame then takes about the
   /// deadline plus one substep of one iteration (with self-contact, up to
   /// kDeadlineSelfContactSteps steps of kDeadlineSelfContactIterations iterations and their
-  /// self-contact), whatever the
-  /// settings (the node's guard against a setting that would hold it for seconds). Throws for a
-  /// negative or non-finite value.
+  /// self-contact), whatever the settings (the node's guard against a setting that would hold
+  /// it for seconds). Throws for a negative or non-finite value.
   void setFrameDeadline(double seconds);
   double frameDeadline() const { return frame_deadline_; }
   /// The most substeps automatic substeps may take now (setSubstepLimit, else the cap).

@@ -220,8 +220,8 @@ struct SolverInput {
   /// deadline, so that no setting holds the caller for longer than that. max(): never (the
   /// default: same results on any machine).
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
-  /// Iterations a step keeps past the deadline (>= 1): 2 in the steps a deadline leaves to
-  /// self-contact (Simulation::kDeadlineSelfContactSteps).
+  /// Iterations a step keeps past the deadline (>= 1): more in the steps a deadline leaves to
+  /// self-contact (Simulation::kDeadlineSelfContactIterations).
   int min_iterations_at_deadline = 1;
   /// Whether a solver that has done @p done iterations stops here for the deadline.
   bool pastDeadline(int done) const {
