@@ -36,6 +36,7 @@ add_library(cloth_sim_core
   src/core/collision/primitive_distance.cpp
   src/core/collision/additive_ccd.cpp
   src/core/collision/surface_topology.cpp
+  src/core/collision/pair_list.cpp
   src/core/collision/pair_search.cpp
   src/core/collision/proximity_projection.cpp
   src/core/collision/impact_failsafe.cpp
@@ -109,7 +110,7 @@ if(CATKIN_ENABLE_TESTING)
     collision/dynamic_spheres_test collision/contact_random_test
     collision/cell_hash_test collision/triangle_intersection_test collision/self_contact_test
     collision/particle_self_contact_test collision/primitive_distance_test collision/additive_ccd_test
-    collision/triangle_self_contact_test collision/self_contact_thin_scenes_test
+    collision/triangle_self_contact_test collision/pair_list_test collision/self_contact_thin_scenes_test
     collision/self_contact_untangle_test
     collision/self_contact_scenes_test
     solvers/implicit_euler_problem_test solvers/newton_solver_test solvers/revision_cache_test

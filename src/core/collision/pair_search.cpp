@@ -14,6 +14,11 @@ namespace {
 /// cos 60 deg: a node is flat when every normal over the substep is within 60 degrees of its
 /// normal box's centre direction.
 constexpr double kFlatCosine = 0.5;
+/// cos 45 deg: findTouching skips only patches flat within 45 degrees whose triangles turn by at
+/// most 15 degrees (sin 15 deg) while their vertices stay within its margin: within 60 degrees,
+/// such a patch stays flat over any motion the list it serves covers.
+constexpr double kTouchingFlatCosine = 0.70710678118654752;
+constexpr double kTurnSine = 0.25881904510252076;
 /// Triangles per leaf at most: the last levels of the tree cost more to walk than to test.
 constexpr int kLeafSize = 4;
 /// With threads, the walk is cut into about this many jobs (at most kSplitLevels levels from
@@ -29,14 +34,14 @@ void extendUnit(Eigen::AlignedBox3d& box, const Vec3& n) {
   if (length > 0.0) box.extend(Vec3(n / length));
 }
 
-/// Whether every unit vector in @p normals lies within acos(kFlatCosine) of its centre's
+/// Whether every unit vector in @p normals lies within acos(@p cosine) of its centre's
 /// direction: for n in the box [c - h, c + h], n . c >= c . c - sum_i |c_i| h_i.
-bool flat(const Eigen::AlignedBox3d& normals) {
+bool flat(const Eigen::AlignedBox3d& normals, double cosine = kFlatCosine) {
   if (normals.isEmpty()) return false;
   const Vec3 c = normals.center(), h = 0.5 * normals.sizes();
   const double length = c.norm();
   if (!(length > 0.0)) return false;
-  return c.squaredNorm() - c.cwiseAbs().dot(h) >= kFlatCosine * length;
+  return c.squaredNorm() - c.cwiseAbs().dot(h) >= cosine * length;
 }
 
 }  // namespace
@@ -170,46 +175,130 @@ void PairSearch::forEach(int count, Body&& body) const {
   });
 }
 
-void PairSearch::refitNormals(const SurfaceTopology& topology, const Points& start,
-                              const Points& end) {
+void PairSearch::markDirty(const SurfaceTopology& topology) {
+  if (dirty_ == nullptr) return;
   const Eigen::Matrix3Xi& tri = topology.triangles();
-  normals_.resize(nodes_.size());
-  flat_.assign(nodes_.size(), 0);
-  if (!cull_flat_) return;  // the normals serve only to skip flat patches
-  triangle_normals_.resize(order_.size());
-  forEach(static_cast<int>(order_.size()), [&](int t) {
-    const int a = tri(0, t), b = tri(1, t), c = tri(2, t);
-    const Vec3 e1s = start.col(b) - start.col(a), e2s = start.col(c) - start.col(a);
-    const Vec3 e1e = end.col(b) - end.col(a), e2e = end.col(c) - end.col(a);
-    Eigen::AlignedBox3d normals;
-    extendUnit(normals, e1s.cross(e2s));
-    extendUnit(normals, e1e.cross(e2e));
-    extendUnit(normals, e1s.cross(e2e) + e1e.cross(e2s));
-    triangle_normals_[t] = normals;
-  });
-  forEach(static_cast<int>(leaves_.size()), [&](int l) {
-    const int k = leaves_[l];
-    const Node& node = nodes_[k];
-    Eigen::AlignedBox3d normals;
-    for (int j = node.first; j < node.first + node.count; ++j) {
-      normals.extend(triangle_normals_[order_[j]]);
-    }
-    // The leaf's ring too: a triangle folded over just outside the leaf lets two of its
-    // triangles that share only a vertex lie on top of each other with their own normals up.
-    for (int r = ring_start_[k]; r < ring_start_[k + 1]; ++r) {
-      normals.extend(triangle_normals_[ring_[r]]);
-    }
-    normals_[k] = normals;
-    flat_[k] = node.connected && flat(normals);
-  });
-  for (const int k : inner_) {  // children first
-    const Node& node = nodes_[k];
-    normals_[k] = normals_[node.left].merged(normals_[node.right]);
-    flat_[k] = node.connected && flat(normals_[k]);
+  const std::vector<char>& mark = *dirty_;
+  dirty_triangle_.resize(order_.size());
+  for (int t = 0; t < static_cast<int>(order_.size()); ++t) {
+    dirty_triangle_[t] = mark[tri(0, t)] || mark[tri(1, t)] || mark[tri(2, t)];
   }
 }
 
-void PairSearch::refitBoxes(const SurfaceTopology& topology) {
+void PairSearch::triangleNormals(const SurfaceTopology& topology, const Points& start,
+                                 const Points& end, int t) {
+  const Eigen::Matrix3Xi& tri = topology.triangles();
+  const int a = tri(0, t), b = tri(1, t), c = tri(2, t);
+  const Vec3 e1s = start.col(b) - start.col(a), e2s = start.col(c) - start.col(a);
+  const Vec3 e1e = end.col(b) - end.col(a), e2e = end.col(c) - end.col(a);
+  Eigen::AlignedBox3d normals;
+  extendUnit(normals, e1s.cross(e2s));
+  extendUnit(normals, e1e.cross(e2e));
+  extendUnit(normals, e1s.cross(e2e) + e1e.cross(e2s));
+  triangle_normals_[t] = normals;
+  if (rotation_margin_ > 0.0) {
+    // Moving each vertex by at most m changes e1 x e2 by at most 2 m (|e1| + |e2|) + 4 m^2, so
+    // the normal turns by at most the asin of that over |e1 x e2| (e1, e2 from the vertex
+    // between the two shortest edges).
+    const Vec3 e3s = start.col(c) - start.col(b);
+    const double l1 = e1s.norm(), l2 = e2s.norm(), l3 = e3s.norm();
+    const double shortest_two = l1 + l2 + l3 - std::max(l1, std::max(l2, l3));
+    const double m = rotation_margin_;
+    const double change = 2.0 * m * shortest_two + 4.0 * m * m;
+    strong_[t] = change <= kTurnSine * e1s.cross(e2s).norm();
+  }
+}
+
+void PairSearch::leafNormals(int k) {
+  const Node& node = nodes_[k];
+  Eigen::AlignedBox3d normals;
+  bool strong = true;
+  const auto add = [&](int t) {
+    normals.extend(triangle_normals_[t]);
+    strong = strong && (rotation_margin_ == 0.0 || strong_[t]);
+  };
+  for (int j = node.first; j < node.first + node.count; ++j) add(order_[j]);
+  // The leaf's ring too: a triangle folded over just outside the leaf lets two of its
+  // triangles that share only a vertex lie on top of each other with their own normals up.
+  for (int r = ring_start_[k]; r < ring_start_[k + 1]; ++r) add(ring_[r]);
+  normals_[k] = normals;
+  strong_node_[k] = strong;
+  flat_[k] = node.connected && strong && flat(normals, flat_cosine_);
+}
+
+void PairSearch::refitNormals(const SurfaceTopology& topology, const Points& start,
+                              const Points& end) {
+  const bool fresh = normals_.size() != nodes_.size() || dirty_ == nullptr;
+  normals_.resize(nodes_.size());
+  flat_.resize(nodes_.size());
+  strong_node_.resize(nodes_.size());
+  if (!cull_flat_) {  // the normals serve only to skip flat patches
+    std::fill(flat_.begin(), flat_.end(), 0);
+    return;
+  }
+  triangle_normals_.resize(order_.size());
+  strong_.resize(order_.size());
+  forEach(static_cast<int>(order_.size()), [&](int t) {
+    if (fresh || dirty_triangle_[t]) triangleNormals(topology, start, end, t);
+  });
+  dirty_node_.assign(nodes_.size(), fresh);
+  if (!fresh) {  // a leaf whose triangles or ring changed
+    for (const int k : leaves_) {
+      const Node& node = nodes_[k];
+      bool dirty = false;
+      for (int j = node.first; j < node.first + node.count && !dirty; ++j) {
+        dirty = dirty_triangle_[order_[j]];
+      }
+      for (int r = ring_start_[k]; r < ring_start_[k + 1] && !dirty; ++r) {
+        dirty = dirty_triangle_[ring_[r]];
+      }
+      dirty_node_[k] = dirty;
+    }
+  }
+  forEach(static_cast<int>(leaves_.size()), [&](int l) {
+    if (dirty_node_[leaves_[l]]) leafNormals(leaves_[l]);
+  });
+  for (const int k : inner_) {  // children first
+    const Node& node = nodes_[k];
+    if (!dirty_node_[node.left] && !dirty_node_[node.right]) continue;
+    dirty_node_[k] = 1;
+    normals_[k] = normals_[node.left].merged(normals_[node.right]);
+    strong_node_[k] = strong_node_[node.left] && strong_node_[node.right];
+    flat_[k] = node.connected && strong_node_[k] && flat(normals_[k], flat_cosine_);
+  }
+}
+
+void PairSearch::refitBoxes(const SurfaceTopology& topology, const Points& start,
+                            const Points& end, double reach, double edge_reach) {
+  const bool fresh = box_.size() != nodes_.size() || dirty_ == nullptr;
+  const int n_vertices = static_cast<int>(start.cols());
+  // Triangles and edges grow by half the edge reach; a vertex by the rest of its reach, so that
+  // its box meets a triangle's when their paths come within reach.
+  const Vec3 edge_grow = Vec3::Constant(0.5 * edge_reach);
+  const Vec3 grow = Vec3::Constant(reach - 0.5 * edge_reach);
+  vertex_box_.resize(n_vertices);
+  path_box_.resize(n_vertices);
+  forEach(n_vertices, [&](int i) {
+    if (!fresh && !(*dirty_)[i]) return;
+    const Vec3 a = start.col(i), b = end.col(i);
+    path_box_[i] = Eigen::AlignedBox3d(a.cwiseMin(b) - edge_grow, a.cwiseMax(b) + edge_grow);
+    vertex_box_[i] = Eigen::AlignedBox3d(a.cwiseMin(b) - grow, a.cwiseMax(b) + grow);
+  });
+  edge_box_.resize(topology.edgeCount());
+  forEach(topology.edgeCount(), [&](int e) {
+    const auto& v = topology.edge(e);
+    if (fresh || (*dirty_)[v[0]] || (*dirty_)[v[1]]) {
+      edge_box_[e] = path_box_[v[0]].merged(path_box_[v[1]]);
+    }
+  });
+  const Eigen::Matrix3Xi& tri = topology.triangles();
+  triangle_box_.resize(topology.triangleCount());
+  forEach(topology.triangleCount(), [&](int t) {
+    if (fresh || dirty_triangle_[t]) {
+      triangle_box_[t] =
+          path_box_[tri(0, t)].merged(path_box_[tri(1, t)]).merged(path_box_[tri(2, t)]);
+    }
+  });
   box_.resize(nodes_.size());
   size_.resize(nodes_.size());
   tight_box_.resize(order_.size());
@@ -219,9 +308,18 @@ void PairSearch::refitBoxes(const SurfaceTopology& topology) {
     box_[k] = FloatBox::outside(box);
     size_[k] = static_cast<float>(box.sizes().maxCoeff());
   };
+  dirty_node_.assign(nodes_.size(), fresh);
   forEach(static_cast<int>(leaves_.size()), [&](int l) {
     const int k = leaves_[l];
     const Node& node = nodes_[k];
+    if (!fresh) {
+      bool dirty = false;
+      for (int j = node.first; j < node.first + node.count && !dirty; ++j) {
+        dirty = dirty_triangle_[order_[j]];
+      }
+      if (!dirty) return;
+      dirty_node_[k] = 1;
+    }
     Eigen::AlignedBox3d box, vertices;
     for (int j = node.first; j < node.first + node.count; ++j) {
       const int t = order_[j];
@@ -239,6 +337,8 @@ void PairSearch::refitBoxes(const SurfaceTopology& topology) {
   });
   for (const int k : inner_) {
     const Node& node = nodes_[k];
+    if (!dirty_node_[node.left] && !dirty_node_[node.right]) continue;
+    dirty_node_[k] = 1;
     const FloatBox &left = box_[node.left], &right = box_[node.right];
     Eigen::AlignedBox3d box(Vec3(left.lo[0], left.lo[1], left.lo[2]),
                             Vec3(left.hi[0], left.hi[1], left.hi[2]));
@@ -256,35 +356,52 @@ void PairSearch::find(const SurfaceTopology& topology, const Points& start, cons
   out.clear();
   triangle_pairs_ = vertex_pairs_ = 0;
   if (nodes_.empty()) return;
+  markDirty(topology);
   refitNormals(topology, start, end);
-  if (cull_flat_ && flat_[0]) return;  // one flat piece: no pair, so no box is needed
-  const int n_vertices = static_cast<int>(start.cols());
-  // Triangles and edges grow by half the edge reach; a vertex by the rest of its reach, so that
-  // its box meets a triangle's when their paths come within reach.
-  const Vec3 edge_grow = Vec3::Constant(0.5 * edge_reach);
-  const Vec3 grow = Vec3::Constant(reach - 0.5 * edge_reach);
-  vertex_box_.resize(n_vertices);
-  path_box_.resize(n_vertices);
-  forEach(n_vertices, [&](int i) {
-    const Vec3 a = start.col(i), b = end.col(i);
-    path_box_[i] = Eigen::AlignedBox3d(a.cwiseMin(b) - edge_grow, a.cwiseMax(b) + edge_grow);
-    vertex_box_[i] = Eigen::AlignedBox3d(a.cwiseMin(b) - grow, a.cwiseMax(b) + grow);
-  });
-  edge_box_.resize(topology.edgeCount());
-  forEach(topology.edgeCount(), [&](int e) {
-    const auto& v = topology.edge(e);
-    edge_box_[e] = path_box_[v[0]].merged(path_box_[v[1]]);
-  });
-  const Eigen::Matrix3Xi& tri = topology.triangles();
-  triangle_box_.resize(topology.triangleCount());
-  forEach(topology.triangleCount(), [&](int t) {
-    triangle_box_[t] =
-        path_box_[tri(0, t)].merged(path_box_[tri(1, t)]).merged(path_box_[tri(2, t)]);
-  });
-  refitBoxes(topology);
+  if (cull_flat_ && flat_[0]) {  // one flat piece: no pair, so no box is needed
+    box_.clear();                // (and the boxes are now stale)
+    return;
+  }
+  refitBoxes(topology, start, end, reach, edge_reach);
   topology_ = &topology;
   walk(out);
   topology_ = nullptr;
+}
+
+void PairSearch::findTouching(const SurfaceTopology& topology, const Points& positions,
+                              double reach, double edge_reach, double margin,
+                              const std::vector<char>* touched, std::vector<PairCandidate>& out) {
+  const Eigen::Matrix3Xi& tri = topology.triangles();
+  if (touched != nullptr) {
+    live_.assign(nodes_.size(), 0);
+    live_slot_.assign(order_.size(), 0);
+    const std::vector<char>& mark = *touched;
+    for (const int k : leaves_) {
+      const Node& node = nodes_[k];
+      for (int j = node.first; j < node.first + node.count; ++j) {
+        const int t = order_[j];
+        live_slot_[j] = mark[tri(0, t)] || mark[tri(1, t)] || mark[tri(2, t)];
+        live_[k] = live_[k] || live_slot_[j];
+      }
+    }
+    for (const int k : inner_) live_[k] = live_[nodes_[k].left] || live_[nodes_[k].right];
+  }
+  touched_ = dirty_ = touched;
+  flat_cosine_ = kTouchingFlatCosine;
+  rotation_margin_ = margin;
+  find(topology, positions, positions, reach, edge_reach, out);
+  rotation_margin_ = 0.0;
+  flat_cosine_ = kFlatCosine;
+  touched_ = dirty_ = nullptr;
+  if (touched == nullptr) return;
+  // A live leaf's unmarked triangles list pairs of unmarked vertices too.
+  const std::vector<char>& mark = *touched;
+  out.erase(std::remove_if(out.begin(), out.end(),
+                           [&](const PairCandidate& p) {
+                             return !(mark[p.v[0]] || mark[p.v[1]] || mark[p.v[2]] ||
+                                      mark[p.v[3]]);
+                           }),
+            out.end());
 }
 
 void PairSearch::walk(std::vector<PairCandidate>& out) {
@@ -334,7 +451,7 @@ void PairSearch::split(const Job& job, std::vector<Job>& next) {
   // leaves stays one job.
   if (job.kind == Job::kSelf) {
     const Node& n = nodes_[job.a];
-    if (cull_flat_ && flat_[job.a]) return;
+    if (!live(job.a) || (cull_flat_ && flat_[job.a])) return;
     if (n.count > 0) {
       next.push_back(job);
       return;
@@ -345,6 +462,7 @@ void PairSearch::split(const Job& job, std::vector<Job>& next) {
     return;
   }
   const int a = job.a, b = job.b;
+  if (!live(a) && !live(b)) return;
   const unsigned tests = remainingTests(a, b, job.tests);
   if (tests == 0) return;
   if (cull_flat_ && flatTogether(a, b, nullptr)) return;
@@ -362,7 +480,7 @@ void PairSearch::split(const Job& job, std::vector<Job>& next) {
 
 void PairSearch::self(int node, Task& task) {
   const Node& n = nodes_[node];
-  if (cull_flat_ && flat_[node]) return;
+  if (!live(node) || (cull_flat_ && flat_[node])) return;
   if (n.count > 0) {
     for (int i = n.first; i < n.first + n.count; ++i) {
       for (int j = i + 1; j < n.first + n.count; ++j) leafPair(i, j, kAll, task);
@@ -389,6 +507,7 @@ bool PairSearch::descendsFirst(int a, int b) const {
 }
 
 void PairSearch::cross(int a, int b, unsigned tests, Task& task) {
+  if (!live(a) && !live(b)) return;
   tests = remainingTests(a, b, tests);
   if (tests == 0) return;
   if (cull_flat_ && flatTogether(a, b, &task)) return;
@@ -409,7 +528,7 @@ void PairSearch::cross(int a, int b, unsigned tests, Task& task) {
 }
 
 bool PairSearch::flatTogether(int a, int b, Task* task) {
-  if (!flat_[a] || !flat_[b] || !flat(normals_[a].merged(normals_[b]))) return false;
+  if (!flat_[a] || !flat_[b] || !flat(normals_[a].merged(normals_[b]), flat_cosine_)) return false;
   // One piece when each is and they share a vertex: asked once per pair of nodes (the mesh does
   // not change), and only of pairs whose normals would let them be skipped.
   const std::uint64_t key = static_cast<std::uint64_t>(std::min(a, b)) * nodes_.size() +
@@ -431,6 +550,7 @@ bool PairSearch::flatTogether(int a, int b, Task* task) {
 }
 
 void PairSearch::leafPair(int i, int j, unsigned tests, Task& task) const {
+  if (touched_ != nullptr && !live_slot_[i] && !live_slot_[j]) return;
   const SurfaceTopology& topology = *topology_;
   const int a = order_[i], b = order_[j];
   if ((tests & kEdges) && tight_box_[i].overlaps(tight_box_[j])) {

@@ -68,6 +68,15 @@ SelfContact::SelfContact(const Eigen::Matrix3Xi& triangles, const Points& rest,
 }
 
 SelfContact::~SelfContact() = default;
+SelfContact::SelfContact(const SelfContact& other)
+    : mode_(other.mode_),
+      thickness_(other.thickness_),
+      friction_(other.friction_),
+      particles_(other.particles_ ? std::make_unique<ParticleSelfContact>(*other.particles_)
+                                  : nullptr),
+      triangles_(other.triangles_ ? std::make_unique<TriangleSelfContact>(*other.triangles_)
+                                  : nullptr),
+      cpu_seconds_(other.cpu_seconds_) {}
 SelfContact::SelfContact(SelfContact&&) noexcept = default;
 SelfContact& SelfContact::operator=(SelfContact&&) noexcept = default;
 

@@ -23,7 +23,9 @@ void requireParticles(const Points& p, int n, const char* what) {
 SimulationSnapshot Simulation::snapshot() const {
   return SimulationSnapshot{model_,   state_,   pins_,      colliders_,
                             options_, inputs_,  grasps_,    substep_,
-                            pin_loads_, solver_->carriedOver(), substeps_, controller_};
+                            pin_loads_, solver_->carriedOver(), substeps_, controller_,
+                            self_contact_ ? std::make_shared<const SelfContact>(*self_contact_)
+                                          : nullptr};
 }
 
 void Simulation::restore(const SimulationSnapshot& s) {
@@ -37,7 +39,9 @@ void Simulation::restore(const SimulationSnapshot& s) {
   // Built before anything changes: a throw leaves the simulation as it was.
   auto solver = std::make_unique<MidpointSafeguard>(makeSolver(s.options.solver));
   std::unique_ptr<SelfContact> self_contact;
-  if (s.options.self_contact.enabled) {
+  if (s.self_contact) {
+    self_contact = std::make_unique<SelfContact>(*s.self_contact);
+  } else if (s.options.self_contact.enabled) {
     self_contact = std::make_unique<SelfContact>(s.model.triangles, initial_state_.positions,
                                                  s.options.self_contact);
   }

@@ -65,6 +65,19 @@ class PairSearch {
   void find(const SurfaceTopology& topology, const Points& start, const Points& end, double reach,
             double edge_reach, std::vector<PairCandidate>& out, bool cull_flat = true);
 
+  /// Fills @p out with the pairs of @p topology held still at @p positions (m) whose boxes
+  /// overlap for @p reach and @p edge_reach (m, as find) and that have a vertex marked in
+  /// @p touched (one per vertex; nullptr: all): the pairs a PairList lists again for the vertices
+  /// it anchors again. A PairList keeps its own PairSearch for this: with @p touched, only the
+  /// boxes and normals of the marked vertices' triangles are refitted (the others are where
+  /// the last call left them), and the walk enters only the nodes that hold a marked vertex.
+  /// It skips the patches flat within 45 degrees whose triangles turn by at most 15 degrees
+  /// while each vertex moves by at most @p margin (m): they stay flat within 60 degrees (the
+  /// cone of find) over every motion the list covers.
+  void findTouching(const SurfaceTopology& topology, const Points& positions, double reach,
+                    double edge_reach, double margin, const std::vector<char>* touched,
+                    std::vector<PairCandidate>& out);
+
   /// Threads of the tree walk (>= 1; its list is the same on any number).
   void setThreads(int threads) { threads_ = threads; }
 
@@ -102,11 +115,21 @@ class PairSearch {
   /// @p mark: one zero per vertex (left so).
   bool sharesVertex(const SurfaceTopology& topology, int a_begin, int a_end, int b_begin,
                     int b_end, std::vector<char>& mark) const;
+  /// dirty_triangle_ from dirty_: the triangles with a marked vertex.
+  void markDirty(const SurfaceTopology& topology);
+  /// Triangle @p t's normal box over the motion start -> end, and with a rotation margin
+  /// whether it is strong_ (turns by at most 15 degrees).
+  void triangleNormals(const SurfaceTopology& topology, const Points& start, const Points& end,
+                       int t);
+  /// Leaf @p k's normal box (its triangles' and its ring's), strength and flatness.
+  void leafNormals(int k);
   /// Each triangle's normals over the motion start -> end, each node's normal box and flat_
-  /// (no node is flat unless cull_flat_).
+  /// (no node is flat unless cull_flat_); with dirty_, only what the marked vertices change.
   void refitNormals(const SurfaceTopology& topology, const Points& start, const Points& end);
-  /// Each node's boxes from the triangles' and vertices' (triangle_box_, vertex_box_).
-  void refitBoxes(const SurfaceTopology& topology);
+  /// The vertices', edges' and triangles' boxes of the motion grown by the reaches (as find),
+  /// then each node's boxes; with dirty_, only what the marked vertices change.
+  void refitBoxes(const SurfaceTopology& topology, const Points& start, const Points& end,
+                  double reach, double edge_reach);
   /// body(i) for i in [0, @p count), in fixed blocks on threads_ (each i writes only its own).
   template <typename Body>
   void forEach(int count, Body&& body) const;
@@ -126,6 +149,8 @@ class PairSearch {
     std::vector<char> mark;  ///< one per vertex, for sharesVertex
     std::unordered_map<std::uint64_t, bool> learned;  ///< adjacencies to add to adjacent_
   };
+  /// Whether the walk enters node @p k: always, unless findTouching marked the nodes to enter.
+  bool live(int k) const { return touched_ == nullptr || live_[k]; }
   /// The walk from the root into @p out: cut into jobs (split) run on threads_, joined in order.
   void walk(std::vector<PairCandidate>& out);
   /// Appends to @p next the jobs @p job recurses into (itself when it is a leaf or two).
@@ -175,6 +200,16 @@ class PairSearch {
   std::vector<Job> jobs_;
   std::vector<Task> tasks_;
   bool cull_flat_ = true;                      ///< during find
+  const std::vector<char>* touched_ = nullptr;  ///< during findTouching: the marked vertices
+  /// During findTouching: the vertices whose boxes and normals are refitted (nullptr: all).
+  const std::vector<char>* dirty_ = nullptr;
+  std::vector<char> dirty_triangle_, dirty_node_;  ///< refitted in this stage
+  double flat_cosine_ = 0.5;                    ///< the flat cone's cosine of this find
+  double rotation_margin_ = 0.0;  ///< m: findTouching's margin (0: no strength required)
+  /// Each triangle, and each node (its triangles and ring), turns by at most 15 degrees.
+  std::vector<char> strong_, strong_node_;
+  /// During findTouching: each node, and each triangle (by slot), holds a marked vertex.
+  std::vector<char> live_, live_slot_;
   long triangle_pairs_ = 0, vertex_pairs_ = 0;
 };
 

@@ -70,6 +70,9 @@ class SelfContact {
   SelfContact(const Eigen::Matrix3Xi& triangles, const Points& rest,
               const SelfContactSettings& settings);
   ~SelfContact();
+  /// A deep copy, with the state carried from one substep to the next (the pair list):
+  /// snapshots keep one, so that a restored run lists the same pairs as the run it left.
+  SelfContact(const SelfContact& other);
   SelfContact(SelfContact&&) noexcept;
   SelfContact& operator=(SelfContact&&) noexcept;
 

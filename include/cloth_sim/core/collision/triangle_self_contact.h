@@ -11,6 +11,7 @@
 #include "cloth_sim/core/collision/colliders.h"
 #include "cloth_sim/core/collision/contact_forces.h"
 #include "cloth_sim/core/collision/impact_failsafe.h"
+#include "cloth_sim/core/collision/pair_list.h"
 #include "cloth_sim/core/collision/pair_search.h"
 #include "cloth_sim/core/collision/proximity_projection.h"
 #include "cloth_sim/core/collision/surface_topology.h"
@@ -33,6 +34,7 @@ struct TriangleContactStats {
   long tangled_pairs = 0; ///< intersecting triangle pairs at the start of the substep
   long crossings = 0;     ///< edge-triangle crossings the untangling moved
   long searches = 0;      ///< broad-phase runs (1 per substep, 2 when the proximity moved far)
+  long listed = 0;        ///< of those, the ones the pair list served (no search of the paths)
   void add(const TriangleContactStats& s);
 };
 
@@ -46,7 +48,8 @@ struct TriangleContactStats {
 ///    get the contour minimization displacement (contour_untangling.h) and pairs between their
 ///    vertices are left out of the stages below, which would otherwise hold the crossing.
 /// 1. Broad phase (PairSearch): vertex-triangle pairs whose swept boxes come within 1.25 t,
-///    edge pairs within 0.8 t.
+///    edge pairs within 0.8 t; while the cloth moves less than kListMargin t a substep, from a
+///    list kept between substeps (PairList) instead of a search of the paths.
 /// 2. Proximity (projectProximity): each pair's closest points and normal at the start; a pair
 ///    near contact at the end and at least t apart on the cloth at rest is kept
 ///    d = min(t, 0.8 x its rest distance) apart along that normal, with Coulomb friction; at
@@ -91,6 +94,7 @@ class TriangleSelfContact {
     threads_ = threads;
     counter_.setThreads(threads);
     search_.setThreads(threads);
+    list_.setThreads(threads);
   }
 
  private:
@@ -107,6 +111,7 @@ class TriangleSelfContact {
   SurfaceTopology topology_;
   Points rest_;
   PairSearch search_;
+  PairList list_;
   double thickness_ = 0.0, friction_ = 0.0, untangle_step_ = 0.0;
   IntersectionCounter counter_;
   std::vector<PairCandidate> candidates_;

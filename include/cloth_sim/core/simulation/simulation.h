@@ -45,7 +45,7 @@ struct SimulationOptions {
 /// A copy of every member of Simulation that carries over from one frame to the next
 /// (Simulation::snapshot, Simulation::restore): restoring one and stepping gives the states of
 /// the run it was taken from, bit for bit. What is not here is derived from what is (the movable
-/// mask, the self-contact's rest data, the shortest rest length) or is not physics (the
+/// mask, the shortest rest length) or is not physics (the
 /// factorization counter; the pose sources stay the simulation's own). The test
 /// simulation/snapshot_test steps on after a restore and compares bit for bit on scenes with
 /// contacts (spheres, balls, ground, meshes, bodies on frames), grasps, BDF2, warm start and
@@ -64,6 +64,8 @@ struct SimulationSnapshot {
   SolverCarry solver_carry;
   int substeps = 0;                             ///< of the next frame (error control)
   StepController controller{1.0, 1, 1, 1};      ///< its calm frames towards a rung down
+  /// Self-contact with its pair list (null when off); shared, as a snapshot never changes it.
+  std::shared_ptr<const SelfContact> self_contact;
 };
 
 /// A mass-spring object with its pins and colliders, advanced one frame at a time.
