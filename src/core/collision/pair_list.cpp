@@ -1,6 +1,7 @@
 #include "cloth_sim/core/collision/pair_list.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "cloth_sim/core/collision/primitive_distance.h"
@@ -61,8 +62,9 @@ void PairList::relist(const SurfaceTopology& topology, double reach, double edge
     reach_ = reach;
     edge_reach_ = edge_reach;
   } else {
-    const auto touches = [&](const PairCandidate& p) {
-      return touched_[p.v[0]] || touched_[p.v[1]] || touched_[p.v[2]] || touched_[p.v[3]];
+    const auto touches = [&](const Listed& l) {
+      const auto& v = l.pair.v;
+      return touched_[v[0]] || touched_[v[1]] || touched_[v[2]] || touched_[v[3]];
     };
     listed_.erase(std::remove_if(listed_.begin(), listed_.end(), touches), listed_.end());
     tree_.findTouching(topology, anchor_, reach + grow, edge_reach + grow, margin_, &touched_,
@@ -76,18 +78,33 @@ void PairList::relist(const SurfaceTopology& topology, double reach, double edge
     const PairPoints x{anchor_.col(p.v[0]), anchor_.col(p.v[1]), anchor_.col(p.v[2]),
                        anchor_.col(p.v[3])};
     const double bound = p.kind == PairKind::kVertexTriangle ? vertex_bound : edge_bound;
-    if (closestPoints(p.kind, x).distance <= bound) listed_.push_back(p);
+    const double distance = closestPoints(p.kind, x).distance;
+    if (distance <= bound) listed_.push_back({p, distance});
   }
 }
 
 void PairList::filter(const Points& start, const Points& end, double reach, double edge_reach,
                       std::vector<PairCandidate>& out) {
+  // Each vertex's farthest from its anchor over the substep: a primitive's points are no farther
+  // from their places at the anchors than its farthest vertex, so a pair whose distance there,
+  // less both primitives' farthest, exceeds its reach stays out of reach over the substep.
+  const int n = static_cast<int>(start.cols());
+  away_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    away_[i] = std::sqrt(std::max((start.col(i) - anchor_.col(i)).squaredNorm(),
+                                  (end.col(i) - anchor_.col(i)).squaredNorm()));
+  }
   lo_ = start.cwiseMin(end);
   hi_ = start.cwiseMax(end);
-  for (const PairCandidate& p : listed_) {
+  for (const Listed& l : listed_) {
+    const PairCandidate& p = l.pair;
     const auto& v = p.v;
     const bool vt = p.kind == PairKind::kVertexTriangle;
+    const double gap = vt ? reach : edge_reach;
     // First primitive: the vertex v[0] or the edge (v[0], v[1]); second: the rest.
+    const double away_a = vt ? away_[v[0]] : std::max(away_[v[0]], away_[v[1]]);
+    const double away_b = std::max(std::max(away_[v[2]], away_[v[3]]), vt ? away_[v[1]] : 0.0);
+    if (l.distance - away_a - away_b > gap * (1.0 + 1e-9)) continue;
     Vec3 lo_a = lo_.col(v[0]), hi_a = hi_.col(v[0]);
     if (!vt) {
       lo_a = lo_a.cwiseMin(lo_.col(v[1]));
@@ -99,7 +116,6 @@ void PairList::filter(const Points& start, const Points& end, double reach, doub
       lo_b = lo_b.cwiseMin(lo_.col(v[1]));
       hi_b = hi_b.cwiseMax(hi_.col(v[1]));
     }
-    const double gap = vt ? reach : edge_reach;
     if ((lo_a.array() - gap <= hi_b.array()).all() && (lo_b.array() - gap <= hi_a.array()).all()) {
       out.push_back(p);
     }

@@ -20,9 +20,10 @@ namespace cloth_sim {
 /// (PairSearch::findTouching). While every vertex's path over a substep stays within m of its
 /// anchor, every point of a primitive stays within m of its place at the anchors (a convex
 /// combination of its vertices), so a pair missing from the list stays farther apart than its
-/// reach over the whole substep, or within a flat patch, which the search skips too: the list
-/// filtered by the substep's boxes (the tests PairSearch ends with) holds every pair the
-/// search's callers need, those that come within the reach.
+/// reach over the whole substep, or within a flat patch, which the search skips too: the list,
+/// filtered by each pair's distance at the anchors less how far its vertices are from theirs
+/// and by the substep's boxes (the tests PairSearch ends with), holds every pair the search's
+/// callers need, those that come within the reach.
 ///
 /// A vertex whose path leaves its anchor's ball is anchored again at its path's midpoint (when
 /// the path is at most 2 m long) and its pairs are listed again; more than a quarter of the
@@ -52,7 +53,9 @@ class PairList {
  private:
   /// Lists again the pairs with a vertex in touched_ (all when @p all), at the anchors.
   void relist(const SurfaceTopology& topology, double reach, double edge_reach, bool all);
-  /// Appends to @p out the listed pairs whose path boxes start -> end come within the reaches.
+  /// Appends to @p out the listed pairs that may come within the reaches over start -> end:
+  /// their distance at the anchors less how far their vertices are from them, and their path
+  /// boxes.
   void filter(const Points& start, const Points& end, double reach, double edge_reach,
               std::vector<PairCandidate>& out);
 
@@ -61,7 +64,14 @@ class PairList {
   double reach_ = -1.0, edge_reach_ = -1.0;  ///< of the list
   int anchored_ = 0;
   Points anchor_;                          ///< a_i (m); empty: no list yet
-  std::vector<PairCandidate> listed_, found_;
+  /// A listed pair and its distance at the anchors (m).
+  struct Listed {
+    PairCandidate pair;
+    double distance;
+  };
+  std::vector<Listed> listed_;
+  std::vector<PairCandidate> found_;
+  std::vector<double> away_;               ///< each vertex's farthest from its anchor (m)
   std::vector<char> touched_;              ///< vertices anchored again in this find
   Points lo_, hi_;                         ///< each vertex's path box in this find (m)
 };
