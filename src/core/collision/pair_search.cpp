@@ -183,6 +183,15 @@ void PairSearch::markDirty(const SurfaceTopology& topology) {
   for (int t = 0; t < static_cast<int>(order_.size()); ++t) {
     dirty_triangle_[t] = mark[tri(0, t)] || mark[tri(1, t)] || mark[tri(2, t)];
   }
+  // The walk enters the nodes holding a marked triangle.
+  live_.assign(nodes_.size(), 0);
+  for (const int k : leaves_) {
+    const Node& node = nodes_[k];
+    for (int j = node.first; j < node.first + node.count; ++j) {
+      live_[k] = live_[k] || dirty_triangle_[order_[j]];
+    }
+  }
+  for (const int k : inner_) live_[k] = live_[nodes_[k].left] || live_[nodes_[k].right];
 }
 
 void PairSearch::triangleNormals(const SurfaceTopology& topology, const Points& start,
@@ -371,28 +380,13 @@ void PairSearch::find(const SurfaceTopology& topology, const Points& start, cons
 void PairSearch::findTouching(const SurfaceTopology& topology, const Points& positions,
                               double reach, double edge_reach, double margin,
                               const std::vector<char>* touched, std::vector<PairCandidate>& out) {
-  const Eigen::Matrix3Xi& tri = topology.triangles();
-  if (touched != nullptr) {
-    live_.assign(nodes_.size(), 0);
-    live_slot_.assign(order_.size(), 0);
-    const std::vector<char>& mark = *touched;
-    for (const int k : leaves_) {
-      const Node& node = nodes_[k];
-      for (int j = node.first; j < node.first + node.count; ++j) {
-        const int t = order_[j];
-        live_slot_[j] = mark[tri(0, t)] || mark[tri(1, t)] || mark[tri(2, t)];
-        live_[k] = live_[k] || live_slot_[j];
-      }
-    }
-    for (const int k : inner_) live_[k] = live_[nodes_[k].left] || live_[nodes_[k].right];
-  }
-  touched_ = dirty_ = touched;
+  dirty_ = touched;
   flat_cosine_ = kTouchingFlatCosine;
   rotation_margin_ = margin;
   find(topology, positions, positions, reach, edge_reach, out);
   rotation_margin_ = 0.0;
   flat_cosine_ = kFlatCosine;
-  touched_ = dirty_ = nullptr;
+  dirty_ = nullptr;
   if (touched == nullptr) return;
   // A live leaf's unmarked triangles list pairs of unmarked vertices too.
   const std::vector<char>& mark = *touched;
@@ -550,7 +544,7 @@ bool PairSearch::flatTogether(int a, int b, Task* task) {
 }
 
 void PairSearch::leafPair(int i, int j, unsigned tests, Task& task) const {
-  if (touched_ != nullptr && !live_slot_[i] && !live_slot_[j]) return;
+  if (dirty_ != nullptr && !dirty_triangle_[order_[i]] && !dirty_triangle_[order_[j]]) return;
   const SurfaceTopology& topology = *topology_;
   const int a = order_[i], b = order_[j];
   if ((tests & kEdges) && tight_box_[i].overlaps(tight_box_[j])) {

@@ -149,8 +149,8 @@ class PairSearch {
     std::vector<char> mark;  ///< one per vertex, for sharesVertex
     std::unordered_map<std::uint64_t, bool> learned;  ///< adjacencies to add to adjacent_
   };
-  /// Whether the walk enters node @p k: always, unless findTouching marked the nodes to enter.
-  bool live(int k) const { return touched_ == nullptr || live_[k]; }
+  /// Whether the walk enters node @p k: always, unless findTouching marked vertices.
+  bool live(int k) const { return dirty_ == nullptr || live_[k]; }
   /// The walk from the root into @p out: cut into jobs (split) run on threads_, joined in order.
   void walk(std::vector<PairCandidate>& out);
   /// Appends to @p next the jobs @p job recurses into (itself when it is a leaf or two).
@@ -200,7 +200,6 @@ class PairSearch {
   std::vector<Job> jobs_;
   std::vector<Task> tasks_;
   bool cull_flat_ = true;                      ///< during find
-  const std::vector<char>* touched_ = nullptr;  ///< during findTouching: the marked vertices
   /// During findTouching: the vertices whose boxes and normals are refitted (nullptr: all).
   const std::vector<char>* dirty_ = nullptr;
   std::vector<char> dirty_triangle_, dirty_node_;  ///< refitted in this stage
@@ -208,8 +207,8 @@ class PairSearch {
   double rotation_margin_ = 0.0;  ///< m: findTouching's margin (0: no strength required)
   /// Each triangle, and each node (its triangles and ring), turns by at most 15 degrees.
   std::vector<char> strong_, strong_node_;
-  /// During findTouching: each node, and each triangle (by slot), holds a marked vertex.
-  std::vector<char> live_, live_slot_;
+  /// During findTouching: each node holds a triangle with a marked vertex (dirty_triangle_).
+  std::vector<char> live_;
   long triangle_pairs_ = 0, vertex_pairs_ = 0;
 };
 
