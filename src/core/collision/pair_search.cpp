@@ -317,18 +317,11 @@ void PairSearch::refitBoxes(const SurfaceTopology& topology, const Points& start
     box_[k] = FloatBox::outside(box);
     size_[k] = static_cast<float>(box.sizes().maxCoeff());
   };
-  dirty_node_.assign(nodes_.size(), fresh);
+  // Not fresh, only the nodes holding a marked triangle change: the live ones (markDirty).
   forEach(static_cast<int>(leaves_.size()), [&](int l) {
     const int k = leaves_[l];
     const Node& node = nodes_[k];
-    if (!fresh) {
-      bool dirty = false;
-      for (int j = node.first; j < node.first + node.count && !dirty; ++j) {
-        dirty = dirty_triangle_[order_[j]];
-      }
-      if (!dirty) return;
-      dirty_node_[k] = 1;
-    }
+    if (!fresh && !live_[k]) return;
     Eigen::AlignedBox3d box, vertices;
     for (int j = node.first; j < node.first + node.count; ++j) {
       const int t = order_[j];
@@ -346,8 +339,7 @@ void PairSearch::refitBoxes(const SurfaceTopology& topology, const Points& start
   });
   for (const int k : inner_) {
     const Node& node = nodes_[k];
-    if (!dirty_node_[node.left] && !dirty_node_[node.right]) continue;
-    dirty_node_[k] = 1;
+    if (!fresh && !live_[k]) continue;
     const FloatBox &left = box_[node.left], &right = box_[node.right];
     Eigen::AlignedBox3d box(Vec3(left.lo[0], left.lo[1], left.lo[2]),
                             Vec3(left.hi[0], left.hi[1], left.hi[2]));
