@@ -130,13 +130,12 @@ void ContactForces::begin(const Model& model, const Points& y, const Eigen::Vect
   });
   indexVertices(particle_node);
   placeBodies();
-  beginPairs(compliance, model.mass, particle_node);
+  beginPairs(compliance, particle_node);
 }
 
-void ContactForces::beginPairs(const Eigen::VectorXd& compliance, const Eigen::VectorXd& mass,
+void ContactForces::beginPairs(const Eigen::VectorXd& compliance,
                                const std::vector<int>& particle_node) {
   pairs_.clear();
-  pair_updates_ = 0;
   if (self_pairs_.empty()) return;
   Stopwatch watch(self_pair_seconds_);
   const std::size_t n = static_cast<std::size_t>(start_.cols());
@@ -160,9 +159,7 @@ void ContactForces::beginPairs(const Eigen::VectorXd& compliance, const Eigen::V
       const int v = p.vertex[k];
       f.offset[k] = kNodeStride * particle_node[v];
       f.start += p.weight[k] * start_.col(v);
-      if (!movable_[v]) continue;
-      f.response += hi2 * p.weight[k] * p.weight[k] * pair_count_[v] * compliance[v];
-      f.mass_response += hi2 * p.weight[k] * p.weight[k] * pair_count_[v] / mass[v];
+      if (movable_[v]) f.response += hi2 * p.weight[k] * p.weight[k] * pair_count_[v] * compliance[v];
     }
     if (!(f.response > 0.0)) continue;  // four pinned particles: nothing to move
     const std::vector<double>& last = p.edges ? edge_pair_force_ : vertex_pair_force_;
@@ -264,9 +261,6 @@ void ContactForces::update(const NodeBuffer& x) {
   placeBodies();
   if (pairs_.empty()) return;
   Stopwatch watch(self_pair_seconds_);
-  // From the third update on, consecutive iterates are both global solves' answers, so the
-  // change of a pair's gap between them is its force's doing (the first iterate is the guess).
-  const bool measured = ++pair_updates_ >= 3;
   const BlockSplit split(pairs_.size(), 1024);
   parallelFor(threads_, split.blocks(), [&](int b) {
     for (std::size_t i = split.begin(b); i < split.end(b); ++i) {
@@ -274,17 +268,7 @@ void ContactForces::update(const NodeBuffer& x) {
       Vec3 g = Vec3::Zero();
       for (int k = 0; k < 4; ++k) g += f.pair.weight[k] * nodeAt(x, f.offset[k]);
       const double gap = f.pair.normal.dot(g) - f.pair.distance;
-      if (measured && f.pushed > 0.0 && f.last_gap < 0.0 && gap > -f.last_gap) {
-        // The push overshot by more than the pair was inside: the particles around moved with
-        // it (a layer pushed at once moves as its mass, not as one point the springs hold), so
-        // the pair answers its force more than the point compliance says. The response the
-        // iterate showed, up to the mass's (A >= M: no push moves a particle more than that).
-        f.response = std::max(f.response, std::min(f.mass_response, (gap - f.last_gap) / f.pushed));
-      }
-      const double lambda = std::max(0.0, f.lambda - kRelaxation * gap / f.response);
-      f.pushed = lambda - f.lambda;
-      f.last_gap = gap;
-      f.lambda = lambda;
+      f.lambda = std::max(0.0, f.lambda - kRelaxation * gap / f.response);
       if (f.pair.mu <= 0.0) continue;
       // The closest points' slide over the step, against Coulomb friction (as a still contact's).
       const Vec3 slip = g - f.start;

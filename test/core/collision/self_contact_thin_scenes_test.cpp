@@ -186,47 +186,6 @@ TEST(ThinSelfContact, AFoldInFreeFallGainsNeitherMomentumNorEnergy) {
   freeFold("solver: {name: local_global, iterations: 2, substeps: 8}\n");
 }
 
-TEST(ThinSelfContact, ALayerLandingFlatOnAnotherIsNotThrownBackAtTenIterations) {
-  // A 96 x 96 sheet of 0.8 m folded in two, its upper half 3 t above the lower one and falling
-  // flat at 0.5 m/s (no gravity, ground or damping): an inelastic landing, which may only lose
-  // energy. Fine (h^2 k / m ~ 140 per substep) and at ten iterations, a whole layer pushed by
-  // its pairs at once moves ~140 times what each pair's point compliance predicts: before the
-  // pairs measured their response, the layer was thrown back at 8.7 m/s (1.92 J from 0.42 J).
-  const std::string yaml = R"(time_step: 1/60
-gravity: [0, 0, 0]
-solver: {name: local_global, iterations: 10, substeps: 8}
-cloth:
-  grid: {rows: 96, cols: 96, size: [0.8, 0.8]}
-material: {areal_density: 0.2, damping: 0, springs: {structural: 400, shear: 40, bending: 4}}
-self_collision: {thickness: 0.003, friction: 0.3}
-)";
-  Simulation sim = makeSimulation(parseScene(yaml, "landing"));
-  Points x = sim.initialPositions(), v = Points::Zero(3, x.cols());
-  const double middle = 0.5 * (x.row(0).minCoeff() + x.row(0).maxCoeff()), rise = 0.009;
-  for (int i = 0; i < x.cols(); ++i) {
-    const double d = x(0, i) - middle;
-    if (d <= 0.0) continue;
-    x(0, i) = middle - d;  // over the lower half, rising to 3 t within 9 mm of the fold
-    x(2, i) = std::min(d, rise);
-    v(2, i) = -0.5 * std::min(1.0, d / rise);
-  }
-  sim.setState(x, v, 0.0);
-  const double e0 = sim.totalEnergy();
-  double e_max = 0.0, v_max = 0.0;
-  int max_intersections = 0;
-  for (int k = 1; k <= 20; ++k) {
-    max_intersections = std::max(max_intersections, sim.step().intersections);
-    e_max = std::max(e_max, sim.totalEnergy());
-    v_max = std::max(v_max, sim.state().velocities.colwise().norm().maxCoeff());
-  }
-  std::printf("a layer landing at 0.5 m/s: energy %.4f J, at most %.4f J after, %.4f J at the "
-              "end; fastest particle %.2f m/s; max intersecting pairs %d\n",
-              e0, e_max, sim.totalEnergy(), v_max, max_intersections);
-  EXPECT_EQ(max_intersections, 0);
-  EXPECT_LE(e_max, e0);
-  EXPECT_LT(v_max, 2.0);
-}
-
 TEST(ThinSelfContact, AFoldInFreeFallGainsNeitherMomentumNorEnergyUnderErrorControl) {
   freeFold("");
 }

@@ -59,11 +59,7 @@ namespace cloth_sim {
 /// Self-contact pairs (SelfPair: a vertex and a triangle, or two edges, of the cloth itself)
 /// enter the same way, with the constraint n . sum_k w_k x_k >= d on four particles whose
 /// weights sum to zero: lambda <- max(0, lambda - 0.5 gap / r), r = h_i^2 sum_k w_k^2 c_k
-/// (c_k: compliance times the pairs sharing the particle; a pair whose push overshot by more
-/// than it was inside, from the third iterate on, takes the response the iterates showed, at
-/// most h_i^2 sum_k w_k^2 n_k / m_k: a whole layer pushed at once moves as its mass, up to
-/// 1 + h_i^2 k / m times more than one point, and a fine cloth's landing diverged over ten
-/// iterations), and Coulomb friction f on the
+/// (c_k: compliance times the pairs sharing the particle), and Coulomb friction f on the
 /// closest points' slide, |f| <= mu lambda; the force w_k (lambda n + f) on each particle (so
 /// their momentum sums to zero). The pairs are those the previous step's proximity stage held
 /// (TriangleSelfContact::solvePairs), linearised at its end: the solve then finds the springs'
@@ -244,23 +240,18 @@ class ContactForces {
     SelfPair pair;
     double lambda = 0.0;    ///< N, >= 0
     double response = 0.0;  ///< m/N: h_i^2 sum_k w_k^2 c_k (mass splitting, as the contacts')
-    double mass_response = 0.0;  ///< m/N: h_i^2 sum_k w_k^2 n_k / m_k, the most it can be
-    double last_gap = 0.0;       ///< m, the gap the last update saw
-    double pushed = 0.0;         ///< N, the change of lambda the last update made
     Vec3 friction = Vec3::Zero();  ///< N, on the first primitive, |friction| <= mu lambda
     Vec3 start = Vec3::Zero();     ///< m, sum_k w_k x_k at the start of the step
     std::array<int, 4> offset{};  ///< the particles' first double in the node buffers
   };
   /// Lists pairs_ from self_pairs_ (begin): responses, offsets, warm starts.
-  void beginPairs(const Eigen::VectorXd& compliance, const Eigen::VectorXd& mass,
-                  const std::vector<int>& particle_node);
+  void beginPairs(const Eigen::VectorXd& compliance, const std::vector<int>& particle_node);
   std::vector<SelfPair> self_pairs_;  ///< swapSelfPairs' pairs
   std::vector<PairForce> pairs_;
   /// Last step's pair forces (N) summed on each pair's vertex[0], vertex pairs and edge pairs
   /// apart: the warm start, shared among this step's pairs on that particle.
   std::vector<double> vertex_pair_force_, edge_pair_force_;
   std::vector<int> pair_count_;  ///< beginPairs' work buffer
-  int pair_updates_ = 0;         ///< updates of pairs_ in this step
   mutable double self_pair_seconds_ = 0.0;
 };
 
