@@ -53,12 +53,13 @@ double minLayerDistance(const Simulation& sim, const Points& rest, double thickn
 }
 
 /// The pin's target at time @p time of a fold: from @p from over an arc @p lift high to
-/// @p to, raised by @p thickness (on top of the other layer), in @p duration s.
+/// @p to, raised by two @p thickness (on the lower layer and the flap trailing under the
+/// corner: held at one, the pin squeezes the flap against the ground), in @p duration s.
 Vec3 foldTarget(const Vec3& from, const Vec3& to, double lift, double thickness, double duration,
                 double time) {
   const double s = std::min(1.0, time / duration);
   const double along = 0.5 * (1.0 - std::cos(M_PI * s));
-  return from + along * (to - from) + Vec3(0, 0, lift * std::sin(M_PI * s) + thickness * along);
+  return from + along * (to - from) + Vec3(0, 0, lift * std::sin(M_PI * s) + 2.0 * thickness * along);
 }
 
 struct RunResult {
