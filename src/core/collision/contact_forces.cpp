@@ -402,6 +402,13 @@ void ContactForces::markTouched(std::vector<char>& mask) const {
   }
 }
 
+void ContactForces::addSelfPushes(Points& pushes) const {
+  for (const PairForce& f : pairs_) {
+    if (f.lambda <= 0.0) continue;
+    for (int k = 0; k < 4; ++k) pushes.col(f.pair.vertex[k]) += (f.pair.weight[k] * f.lambda) * f.pair.normal;
+  }
+}
+
 int ContactForces::activeCount() const {
   int active = 0;
   for (const Contact& c : contacts_) active += c.lambda > 0.0 ? 1 : 0;

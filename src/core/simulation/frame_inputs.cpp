@@ -60,8 +60,10 @@ void FrameInputs::beginFrame(const PinSet& pins, double max_pin_move, double fra
   }
 }
 
-const PinSet& FrameInputs::pinsAt(int k, int n, double time, GraspSet& grasps, PinSet& pins) {
+const PinSet& FrameInputs::pinsAt(int k, int n, double time, GraspSet& grasps, PinSet& pins,
+                                  const Points& pushes) {
   const bool moved = !paths_.empty();
+  if (moved && pushes.cols() > 0) stopAtContacts(placed_substeps_, n, pushes);
   if (moved) {
     const double s = static_cast<double>(k) / n;
     for (const PinPath& path : paths_)
@@ -73,6 +75,26 @@ const PinSet& FrameInputs::pinsAt(int k, int n, double time, GraspSet& grasps, P
   }
   placed_substeps_ = k;
   return moved ? pins_at_ : pins;
+}
+
+void FrameInputs::stopAtContacts(int done, int n, const Points& pushes) {
+  for (PinPath& path : paths_) {
+    const Pin* pin = pins_at_.find(path.id);
+    if (pin == nullptr || !pin->isHard()) continue;
+    const Vec3 push = pushes.col(pin->vertex);
+    const Vec3 at = path.from + (static_cast<double>(done) / n) * (path.to - path.from);
+    const double into = (path.to - at).dot(push);
+    if (!(into < 0.0)) continue;
+    // The rest of the way without its part into the contact, still reached at substep n: the
+    // path from' -> to' that pinsAt's k / n interpolation puts at `at` after `done` substeps.
+    const Vec3 to = path.to - (into / push.squaredNorm()) * push;
+    const Vec3 way = (to - at) * (static_cast<double>(n) / (n - done));
+    path.from = to - way;
+    path.to = to;
+    for (auto& [id, target] : frame_end_) {
+      if (id == path.id) target = to;
+    }
+  }
 }
 
 void FrameInputs::endFrame(bool kept, const PinSet& pins, const GraspSet& grasps, double frame_time,

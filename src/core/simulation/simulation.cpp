@@ -103,6 +103,10 @@ SubstepWorld Simulation::substepWorld() {
                       state_, colliders_,        pin_loads_};
 }
 
+namespace {
+const Points kNoPushes;  ///< FrameInputs::pinsAt without self-contact
+}  // namespace
+
 StepReport Simulation::step() {
   const auto t0 = std::chrono::steady_clock::now();
   const State before = state_;
@@ -189,8 +193,15 @@ StepReport Simulation::runFrame(std::chrono::steady_clock::time_point t0, const 
       }
     }
     // A grasp's frame is asked where it is at the end of each substep, so a moving gripper
-    // carries the cloth continuously, not in one jump a frame.
-    const PinSet& pins = inputs_.pinsAt(last, n, state_.time + hk, grasps_, pins_);
+    // carries the cloth continuously, not in one jump a frame. A hard pin moving this frame
+    // stops where the last substep's self-contact pairs push back (FrameInputs::pinsAt).
+    const bool pushed = self_contact_ && !inputs_.paths().empty();
+    if (pushed) {
+      pushes_.setZero(3, model_.particleCount());
+      substep_.contactForces().addSelfPushes(pushes_);
+    }
+    const PinSet& pins = inputs_.pinsAt(last, n, state_.time + hk, grasps_, pins_,
+                                        pushed ? pushes_ : kNoPushes);
     colliders_.mutableBodies().place(state_.time + hk, body_pose_source_);  // bodies likewise
     substep_.run(world, pins, hk, revision_, iteration_tolerance, tolerance > 0.0, report);
     if (last == n) break;

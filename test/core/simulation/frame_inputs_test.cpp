@@ -1,7 +1,8 @@
 // FrameInputs: a moved pin target goes there linearly across the frame's substeps, at most the
 // speed limit per frame; a kinematic sphere's jump is a velocity for the frame (taken back out
 // after it, or made at once by a rollback); grasp targets follow the pose source at each
-// substep's time, at the substep's share of the speed limit. Pure: pins, colliders and grasps, no solver.
+// substep's time, at the substep's share of the speed limit; a hard pin stops where the
+// cloth's self-contact pushes back. Pure: pins, colliders and grasps, no solver.
 #include <gtest/gtest.h>
 
 #include "cloth_sim/core/simulation/frame_inputs.h"
@@ -54,6 +55,43 @@ TEST_F(FrameInputsTest, AMovedTargetGoesThereAFractionKOverNAtSubstepK) {
   inputs.endFrame(true, pins, grasps, kFrame, colliders);
   inputs.beginFrame(pins, 10.0, kFrame, colliders);  // reached: nothing moves in the next frame
   EXPECT_TRUE(inputs.paths().empty());
+}
+
+TEST_F(FrameInputsTest, AHardPinStopsWhereSelfContactPushesBack) {
+  const int id = pinParticle(0);
+  const Vec3 from = x.col(0), to(0.4, 0.0, -0.4);  // down and sideways
+  pins.moveTarget(id, to);
+  inputs.beginFrame(pins, 10.0, kFrame, colliders);
+  Points push = Points::Zero(3, 3);
+  EXPECT_EQ(inputs.pinsAt(1, 4, 0.0, grasps, pins, push).find(id)->target,
+            Vec3(from + 0.25 * (to - from)));  // no push: as before
+  push.col(0) = Vec3(0.0, 0.0, 5.0);  // the cloth below pushes its particle up (N)
+  const Vec3 at = from + 0.25 * (to - from);
+  for (int k = 2; k <= 4; ++k) {
+    const Vec3 target = inputs.pinsAt(k, 4, 0.0, grasps, pins, push).find(id)->target;
+    // It goes on sideways at the same pace, and no lower.
+    EXPECT_NEAR(target.z(), at.z(), 1e-15) << "substep " << k;
+    EXPECT_NEAR(target.x(), from.x() + (k / 4.0) * (to.x() - from.x()), 1e-15) << k;
+  }
+  EXPECT_EQ(pins.find(id)->target, to);  // the user's target stands ...
+  inputs.endFrame(true, pins, grasps, kFrame, colliders);
+  inputs.beginFrame(pins, 10.0, kFrame, colliders);  // ... and the next frame heads for it
+  ASSERT_EQ(inputs.paths().size(), 1u);
+  EXPECT_NEAR(inputs.paths()[0].from.z(), at.z(), 1e-15);
+  EXPECT_EQ(inputs.paths()[0].to, to);
+  push.col(0) = Vec3(0.0, 0.0, -5.0);  // pushed down, the way it goes: no stop
+  EXPECT_EQ(inputs.pinsAt(4, 4, 0.0, grasps, pins, push).find(id)->target, to);
+}
+
+TEST_F(FrameInputsTest, ASoftPinIsNotStoppedBySelfContact) {
+  const int id = pins.add(1, x.col(1), 50.0, 3);  // soft: its spring yields on its own
+  inputs.startPinsAt(pins, x);
+  const Vec3 to = Vec3(x.col(1)) + Vec3(0.0, 0.0, -0.1);
+  pins.moveTarget(id, to);
+  inputs.beginFrame(pins, 10.0, kFrame, colliders);
+  Points push = Points::Zero(3, 3);
+  push.col(1) = Vec3(0.0, 0.0, 5.0);
+  EXPECT_EQ(inputs.pinsAt(4, 4, 0.0, grasps, pins, push).find(id)->target, to);
 }
 
 TEST_F(FrameInputsTest, AFarTargetIsReachedAtTheSpeedLimitOverSeveralFrames) {

@@ -133,6 +133,10 @@ class ContactForces {
                        bool stick) const;
 
   bool empty() const { return contacts_.empty() && pairs_.empty(); }
+  /// Adds to @p pushes (3 x N, N) the normal force the last solve's self-contact pairs put on
+  /// each of their particles, w_k lambda n, also where a particle is hard pinned (it gets no
+  /// force, but the pairs still push against it).
+  void addSelfPushes(Points& pushes) const;
   /// Contacts of this step that push (lambda > 0): a contact point on a triangle, an edge or a
   /// vertex (spheres) or a particle (ground, mesh obstacles).
   int activeCount() const;

@@ -52,7 +52,17 @@ class FrameInputs {
   /// @p grasps is placed first towards its frame's pose at time @p time (s, the substep's end)
   /// in @p pins and the copy, its held particles moving at most (k - j) / n of the frame's
   /// max_pin_move since substep j, the one placed before (a k past j + 1: merged substeps).
-  const PinSet& pinsAt(int k, int n, double time, GraspSet& grasps, PinSet& pins);
+  /// A hard pin whose particle the cloth's self-contact pushes (@p pushes, 3 x N, N, as
+  /// ContactForces::addSelfPushes; empty: none) drops the part of the rest of its path that
+  /// would drive its particle into that contact, and goes on along what is left: it stops where
+  /// it touches, as a gripper set down on a stack does, and its target is approached again in
+  /// later frames as far as the contact lets it. Driven on, it squeezed the layers under it
+  /// against the ground, which no position satisfies, and they were pushed out sideways (the
+  /// fold under error control: 0.04 J to 12 J in a frame, docs/benchmark.md). Only the pairs
+  /// in the solve push (not the proximity stage after it), and only a user's pin path stops:
+  /// a grasp's held particles follow their frame (GraspSet::place).
+  const PinSet& pinsAt(int k, int n, double time, GraspSet& grasps, PinSet& pins,
+                       const Points& pushes = Points());
   /// Ends the frame. If it was @p kept, the sphere jumps' velocities are taken back out;
   /// otherwise (rolled back, @p colliders restored) the moved spheres are put where they were
   /// sent. Each target's place at this frame's end is kept for the next (a grasped pin's where
@@ -75,6 +85,9 @@ class FrameInputs {
     int id;
     Vec3 displacement;  ///< m, spread over the frame's substeps
   };
+  /// Shortens the paths of the hard pins pushed by @p pushes (pinsAt) after @p done of @p n
+  /// substeps.
+  void stopAtContacts(int done, int n, const Points& pushes);
   /// Adds @p sign (+1, -1) times each jump over @p frame_time to its sphere's velocity.
   void applySphereJumps(double sign, double frame_time, Colliders& colliders) const;
 

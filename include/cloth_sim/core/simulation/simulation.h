@@ -312,6 +312,8 @@ class Simulation {
   BodyPoseSource body_pose_source_;
   SubstepPipeline substep_;
   int substeps_ = 0;                     ///< of the next frame, see substeps()
+  /// N, 3 x N: the self-contact pairs' pushes before a substep (FrameInputs::pinsAt).
+  Points pushes_;
   StepController controller_{1.0, 1, 1, 1};  ///< automatic substeps (set up by changed)
   std::vector<Vec3> pin_loads_;  ///< N, see pinLoads()
   double frame_deadline_ = 0.0;  ///< s, setFrameDeadline (0: none); not physics, not snapshotted
