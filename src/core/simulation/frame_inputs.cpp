@@ -71,7 +71,7 @@ const PinSet& FrameInputs::pinsAt(int k, int n, double time, GraspSet& grasps, P
   }
   if (!grasps.empty()) {
     const double max_move = max_pin_move_ * (k - placed_substeps_) / n;
-    grasps.place(time, max_move, pins, moved ? &pins_at_ : nullptr);
+    grasps.place(time, max_move, pins, moved ? &pins_at_ : nullptr, pushes);
   }
   placed_substeps_ = k;
   return moved ? pins_at_ : pins;

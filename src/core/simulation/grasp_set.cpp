@@ -124,13 +124,23 @@ void GraspSet::remove(int id, PinSet& pins) {
   grasps_.erase(it);
 }
 
-void GraspSet::place(double time, double max_move, PinSet& pins, PinSet* pins_at) {
+void GraspSet::place(double time, double max_move, PinSet& pins, PinSet* pins_at,
+                     const Points& pushes) {
   for (Grasp& g : grasps_) {
     if (pose_source_) {
       const Pose pose = pose_source_(g.id, time);
       if (pose.matrix().allFinite()) g.frame = pose;  // a bad answer keeps the last pose
     }
+    const Vec3 before = g.pose.translation();
     g.pose = towards(g.pose, g.frame, g.local, max_move);
+    if (pushes.cols() > 0) {
+      Vec3 push = Vec3::Zero();
+      for (int v : g.vertices) push += pushes.col(v);
+      const double into = (g.pose.translation() - before).dot(push);
+      // Stopped where it is: sliding along the contact, a gripper followed the stack's slope
+      // down to where the layers thin out and squeezed them there.
+      if (into < 0.0) g.pose.translation() = before;
+    }
     g.lag = farthestMove(g.pose, g.frame, g.local);
     for (std::size_t k = 0; k < g.pin_ids.size(); ++k) {
       const Vec3 target = g.pose * Vec3(g.local.col(static_cast<Eigen::Index>(k)));

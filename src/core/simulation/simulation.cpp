@@ -193,9 +193,9 @@ StepReport Simulation::runFrame(std::chrono::steady_clock::time_point t0, const 
       }
     }
     // A grasp's frame is asked where it is at the end of each substep, so a moving gripper
-    // carries the cloth continuously, not in one jump a frame. A hard pin moving this frame
-    // stops where the last substep's self-contact pairs push back (FrameInputs::pinsAt).
-    const bool pushed = self_contact_ && !inputs_.paths().empty();
+    // carries the cloth continuously, not in one jump a frame. A hard pin moving this frame,
+    // and a grasp, stop where the last substep's self-contact pairs push back (pinsAt).
+    const bool pushed = self_contact_ && (!inputs_.paths().empty() || !grasps_.empty());
     if (pushed) {
       pushes_.setZero(3, model_.particleCount());
       substep_.contactForces().addSelfPushes(pushes_);

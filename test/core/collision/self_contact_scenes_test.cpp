@@ -159,11 +159,12 @@ void expectOffIsAbsent(const std::string& scene) {
 }
 
 /// The fold's corner driven down onto the far corner itself, under the default's error control
-/// (24 x 24 to stay quick): the flap that trails under it and the lower layer are in the way.
-/// The pin must stop on them (FrameInputs::pinsAt): driven on, it squeezed them against the
-/// ground and they were pushed out sideways (here: max strain 53, 35 intersecting pairs, the
-/// corner 0.36 m under the far corner's height).
-TEST(SelfContactScenes, APinDrivenIntoTheStackBelowStopsOnIt) {
+/// (24 x 24 to stay quick), by its pin or by a grasp: the flap that trails under it and the
+/// lower layer are in the way. The pin or gripper must stop on them (FrameInputs::pinsAt,
+/// GraspSet::place): driven on, it squeezed them against the ground and they were pushed out
+/// sideways (with the pin: max strain 53, 35 intersecting pairs, the corner 0.36 m under the far
+/// corner's height).
+void driveIntoTheStack(bool grasp) {
   const std::string path = test::sourcePath("config/scenes/fold.yaml");
   std::istringstream in(readFile(path));
   std::string text, line;
@@ -178,31 +179,42 @@ TEST(SelfContactScenes, APinDrivenIntoTheStackBelowStopsOnIt) {
   Simulation sim = makeSimulation(applyOverrides(parseScene(text, path), resolution));
   ASSERT_GT(sim.options().settings.error_tolerance, 0.0);
   const Pin pin = sim.pins().pins().front();
-  const int far = sim.model().particleCount() - 1;
+  const int corner = pin.vertex, far = sim.model().particleCount() - 1;
   const Vec3 from = pin.target, to = sim.state().positions.col(far);
   const double t = sim.selfContact()->thickness(), dt = sim.frameTime();
+  const auto target = [&](double time) { return foldTarget(from, to, 0.3, 0.0, 60 * dt, time); };
+  int held = -1;
+  if (grasp) {
+    sim.removePin(pin.id);
+    held = sim.addGrasp({corner}, Pose(Eigen::Translation3d(from)));
+    sim.setGraspPoseSource([&](int, double time) { return Pose(Eigen::Translation3d(target(time))); });
+  }
   double max_strain = 0.0;
   int max_intersections = 0, failed = 0;
   for (int frame = 1; frame <= 90; ++frame) {  // 1 s of fold, held 0.25 s, let go
-    if (frame <= 75) sim.movePin(pin.id, foldTarget(from, to, 0.3, 0.0, 60 * dt, frame * dt));
-    if (frame == 76) sim.removePin(pin.id);
+    if (!grasp && frame <= 75) sim.movePin(pin.id, target(frame * dt));
+    if (frame == 76) grasp ? sim.removeGrasp(held) : sim.removePin(pin.id);
     const StepReport r = sim.step();
     failed += r.status != StepStatus::kOk;
     max_intersections = std::max(max_intersections, r.intersections);
     max_strain = std::max(max_strain, r.max_strain);
     if (frame == 75) {
-      const double above = sim.state().positions(2, pin.vertex) - sim.state().positions(2, far);
-      std::printf("pin driven into the stack: held %.4f m above the far corner (t = %.4f m)\n",
-                  above, t);
+      const double above = sim.state().positions(2, corner) - sim.state().positions(2, far);
+      std::printf("%s driven into the stack: held %.4f m above the far corner (t = %.4f m)\n",
+                  grasp ? "grasp" : "pin", above, t);
       EXPECT_GT(above, t) << "it stopped on the layers below";
     }
   }
-  std::printf("pin driven into the stack: max strain %.3f, max intersecting pairs %d, failed "
-              "frames %d\n", max_strain, max_intersections, failed);
+  std::printf("%s driven into the stack: max strain %.3f, max intersecting pairs %d, failed "
+              "frames %d\n", grasp ? "grasp" : "pin", max_strain, max_intersections, failed);
   EXPECT_EQ(failed, 0);
   EXPECT_EQ(max_intersections, 0);
   EXPECT_LT(max_strain, 0.4) << "nothing squeezed out";
 }
+
+TEST(SelfContactScenes, APinDrivenIntoTheStackBelowStopsOnIt) { driveIntoTheStack(false); }
+
+TEST(SelfContactScenes, AGripperDrivenIntoTheStackBelowStopsOnIt) { driveIntoTheStack(true); }
 
 TEST(SelfContactScenes, OptionOffGivesBitIdenticalTrajectories) {
   for (const char* scene : {"hanging", "drape", "gravity_well", "tablecloth"}) {

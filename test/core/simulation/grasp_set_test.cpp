@@ -99,6 +99,30 @@ TEST(GraspSet, PlaceMovesTheTargetsWithTheFrameAndKeepsItOnABadAnswer) {
   EXPECT_TRUE(g.pose.matrix().allFinite());
 }
 
+TEST(GraspSet, AGripperSetDownOnAStackStopsOnIt) {
+  const Points x = square();
+  PinSet pins;
+  GraspSet grasps;
+  grasps.add({0, 1}, Pose::Identity(), x, pins);
+  // The frame goes down 0.4 m and sideways 0.3 m; the cloth below pushes particle 1 up: the
+  // gripper stops where it is (sliding along the push, it went down the stack's slope).
+  const Pose down = Eigen::Translation3d(0.3, 0.0, -0.4) * Pose::Identity();
+  grasps.setPoseSource([&](int, double) { return down; });
+  Points push = Points::Zero(3, 4);
+  push.col(1) = Vec3(0.0, 0.0, 2.0);  // N
+  grasps.place(0.1, kNoLimit, pins, nullptr, push);
+  const Grasp& g = grasps.grasps()[0];
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(pins.find(g.pin_ids[k])->target, Vec3(x.col(g.vertices[k]))) << "stopped";
+  }
+  EXPECT_NEAR(g.lag, 0.5, 1e-12);  // how far it stays behind its frame
+  // Pushed the way it goes, or not at all, it follows its frame.
+  push.col(1) = Vec3(0.0, 0.0, -2.0);
+  grasps.place(0.2, kNoLimit, pins, nullptr, push);
+  EXPECT_NEAR(pins.find(g.pin_ids[0])->target.z(), 0.6, 1e-15);
+  EXPECT_NEAR(g.lag, 0.0, 1e-15);
+}
+
 /// The largest distance between the targets of @p pins_ids in @p a and in @p b.
 double farthest(const PinSet& a, const PinSet& b, const std::vector<int>& pin_ids) {
   double d = 0.0;

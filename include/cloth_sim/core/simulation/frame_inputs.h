@@ -58,9 +58,9 @@ class FrameInputs {
   /// it touches, as a gripper set down on a stack does, and its target is approached again in
   /// later frames as far as the contact lets it. Driven on, it squeezed the layers under it
   /// against the ground, which no position satisfies, and they were pushed out sideways (the
-  /// fold under error control: 0.04 J to 12 J in a frame, docs/benchmark.md). Only the pairs
-  /// in the solve push (not the proximity stage after it), and only a user's pin path stops:
-  /// a grasp's held particles follow their frame (GraspSet::place).
+  /// fold under error control: 0.04 J to 12 J in a frame, docs/benchmark.md). A grasp stops
+  /// likewise (GraspSet::place). Only the pairs in the solve push, not the proximity stage
+  /// after it.
   const PinSet& pinsAt(int k, int n, double time, GraspSet& grasps, PinSet& pins,
                        const Points& pushes = Points());
   /// Ends the frame. If it was @p kept, the sphere jumps' velocities are taken back out;

@@ -44,7 +44,12 @@ class GraspSet {
   /// not finite keeps the last one); its pose moved rigidly towards the frame, no held particle
   /// moving more than @p max_move m (the frame itself when none would), and its pins' targets
   /// there, written into @p pins and, if given, @p pins_at (the substep's copy of the pins).
-  void place(double time, double max_move, PinSet& pins, PinSet* pins_at);
+  /// With @p pushes (3 x N, N: the cloth's self-contact pushing each particle,
+  /// ContactForces::addSelfPushes; empty: none), a pose whose move points into the sum of its
+  /// held particles' pushes keeps its place (it turns still): a gripper set down on a stack of
+  /// cloth stops on it (FrameInputs::pinsAt says why); its lag shows how far it stays behind.
+  void place(double time, double max_move, PinSet& pins, PinSet* pins_at,
+             const Points& pushes = Points());
   /// Each grasp's wrench from the pin loads @p loads (N, in pins.pins() order) at @p positions
   /// (m): the force sum and its torque about its pose's origin.
   void updateWrenches(const PinSet& pins, const std::vector<Vec3>& loads, const Points& positions);
