@@ -444,7 +444,11 @@ void ClothSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status)
   in.paused = paused_;
   in.stale_grasp_frames = grasp_frames_.staleFrames();
   for (const Grasp& g : sim_.grasps()) {
-    if (g.lag > 0.0) in.lagging_grasps.emplace_back(g.id, g.lag);
+    if (g.stopped) {
+      in.stopped_grasps.emplace_back(g.id, g.lag);
+    } else if (g.lag > 0.0) {
+      in.lagging_grasps.emplace_back(g.id, g.lag);
+    }
   }
   in.pin_speed = limits_.pinSpeed();
   in.frame_deadline = sim_.frameDeadline();

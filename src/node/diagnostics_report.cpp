@@ -85,15 +85,25 @@ DiagnosticsReport diagnosticsReport(const DiagnosticsInput& in) {
     warn("grasp frame stopped updating, held at its last pose: " + frames);
     add("stale grasp frames", frames);
   }
-  if (!in.lagging_grasps.empty()) {
+  const auto listed = [](const std::vector<std::pair<int, double>>& lags) {
     std::string grasps;
-    for (const auto& [id, lag] : in.lagging_grasps) {
+    for (const auto& [id, lag] : lags) {
       grasps += (grasps.empty() ? "grasp " : ", grasp ") + std::to_string(id) + " by " +
                 fixed3(lag) + " m";
     }
+    return grasps;
+  };
+  if (!in.lagging_grasps.empty()) {
+    const std::string grasps = listed(in.lagging_grasps);
     warn("grasp frame faster than the pin speed limit (" + fixed3(in.pin_speed) +
          " m/s), held behind it: " + grasps);
     add("grasps behind their frame", grasps);
+  }
+  if (!in.stopped_grasps.empty()) {
+    const std::string grasps = listed(in.stopped_grasps);
+    warn("grasp stopped on the cloth under it (self-contact pushes it back), behind its "
+         "frame: " + grasps);
+    add("grasps stopped on the cloth", grasps);
   }
   return r;
 }

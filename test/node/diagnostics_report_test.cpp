@@ -174,6 +174,20 @@ TEST(DiagnosticsReport, AGraspBehindItsFrameWarnsWithItsLag) {
   EXPECT_EQ(valueOf(r, "grasps behind their frame"), "(missing)");
 }
 
+TEST(DiagnosticsReport, AGraspStoppedOnTheClothSaysSo) {
+  DiagnosticsInput in = healthy();
+  in.grasps = 1;
+  in.stopped_grasps = {{2, 0.0123}};
+  DiagnosticsReport r = diagnosticsReport(in);
+  EXPECT_EQ(r.level, Health::kWarn);
+  EXPECT_EQ(r.message, "grasp stopped on the cloth under it (self-contact pushes it back), "
+                       "behind its frame: grasp 2 by 0.012 m");
+  EXPECT_EQ(valueOf(r, "grasps stopped on the cloth"), "grasp 2 by 0.012 m");
+  EXPECT_EQ(valueOf(r, "grasps behind their frame"), "(missing)");
+  in.stopped_grasps.clear();
+  EXPECT_EQ(diagnosticsReport(in).level, Health::kOk);
+}
+
 TEST(RealTimeWindow, SimulatedOverWallTimeThenANewWindow) {
   RealTimeWindow w(10.0);
   w.add(0.25);

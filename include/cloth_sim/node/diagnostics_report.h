@@ -57,6 +57,8 @@ struct DiagnosticsInput {
   std::vector<std::string> stale_grasp_frames;  ///< GraspFrames::staleFrames()
   /// Each grasp whose held particles are behind its frame: its id and Grasp::lag (m).
   std::vector<std::pair<int, double>> lagging_grasps;
+  /// Each grasp stopped on the cloth under it (Grasp::stopped): its id and Grasp::lag (m).
+  std::vector<std::pair<int, double>> stopped_grasps;
   double pin_speed = 0.0;                       ///< m/s, the pins' speed limit (0 = none)
   double frame_deadline = 0.0;                  ///< s, ~frame_deadline_ms (0 = none)
   /// What the node holds back from the user's inputs and why (ClothState::notice; "" = none).
@@ -74,7 +76,9 @@ struct DiagnosticsReport {
 /// it to at least WARN and adds "grasp frame stopped updating, held at its last pose: <frames>"
 /// (after "; " when the window already warned, as DiagnosticStatusWrapper::mergeSummary does);
 /// a grasp behind its frame likewise, with "grasp frame faster than the pin speed limit (<v>
-/// m/s), held behind it: grasp <id> by <lag> m".
+/// m/s), held behind it: grasp <id> by <lag> m", and a grasp stopped on the cloth under it with
+/// "grasp stopped on the cloth under it (self-contact pushes it back), behind its frame: grasp
+/// <id> by <lag> m".
 /// Times are given in ms with 3 decimals, e.g. "step budget (ms)" "16.667".
 DiagnosticsReport diagnosticsReport(const DiagnosticsInput& in);
 

@@ -132,6 +132,7 @@ void GraspSet::place(double time, double max_move, PinSet& pins, PinSet* pins_at
       if (pose.matrix().allFinite()) g.frame = pose;  // a bad answer keeps the last pose
     }
     const Vec3 before = g.pose.translation();
+    g.stopped = false;
     g.pose = towards(g.pose, g.frame, g.local, max_move);
     if (pushes.cols() > 0) {
       Vec3 push = Vec3::Zero();
@@ -139,7 +140,8 @@ void GraspSet::place(double time, double max_move, PinSet& pins, PinSet* pins_at
       const double into = (g.pose.translation() - before).dot(push);
       // Stopped where it is: sliding along the contact, a gripper followed the stack's slope
       // down to where the layers thin out and squeezed them there.
-      if (into < 0.0) g.pose.translation() = before;
+      g.stopped = into < 0.0;
+      if (g.stopped) g.pose.translation() = before;
     }
     g.lag = farthestMove(g.pose, g.frame, g.local);
     for (std::size_t k = 0; k < g.pin_ids.size(); ++k) {

@@ -116,11 +116,13 @@ TEST(GraspSet, AGripperSetDownOnAStackStopsOnIt) {
     EXPECT_EQ(pins.find(g.pin_ids[k])->target, Vec3(x.col(g.vertices[k]))) << "stopped";
   }
   EXPECT_NEAR(g.lag, 0.5, 1e-12);  // how far it stays behind its frame
+  EXPECT_TRUE(g.stopped);
   // Pushed the way it goes, or not at all, it follows its frame.
   push.col(1) = Vec3(0.0, 0.0, -2.0);
   grasps.place(0.2, kNoLimit, pins, nullptr, push);
   EXPECT_NEAR(pins.find(g.pin_ids[0])->target.z(), 0.6, 1e-15);
   EXPECT_NEAR(g.lag, 0.0, 1e-15);
+  EXPECT_FALSE(g.stopped);
 }
 
 /// The largest distance between the targets of @p pins_ids in @p a and in @p b.

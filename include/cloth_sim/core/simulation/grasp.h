@@ -37,6 +37,9 @@ struct Grasp {
   /// m, how far the farthest held particle is from where the frame would hold it (0: held on
   /// the frame).
   double lag = 0.0;
+  /// The last placement kept the pose where it was: its move pointed into the cloth under it
+  /// (GraspSet::place, self-contact pushing its held particles back).
+  bool stopped = false;
   /// What the cloth exerts on the grasp after the last substep: the sum of its pins' loads
   /// (PinReactions) and their torque sum_i (x_i - origin) x load_i about pose's origin.
   Wrench wrench;
