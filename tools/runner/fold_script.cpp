@@ -18,8 +18,9 @@ FoldScript::FoldScript(const Simulation& sim, double duration) : duration_(durat
   to_ = x.col(far);
   // The corner comes down on two layers: the lower one and the flap that trails under the
   // corner. Held lower than that (one thickness), a hard pin squeezes the flap between itself
-  // and the ground, which no position can satisfy: the layers were squeezed out sideways at up
-  // to 11 m/s (32 x 32 under error control, 0.04 J to 12 J in the last frame of the fold).
+  // and the ground, which no position can satisfy: the layers were squeezed out sideways
+  // (32 x 32 under error control: 0.04 J to 12 J in the fold's last frame, flap particles
+  // moving 7.9 cm in it).
   if (sim.selfContact() != nullptr) to_.z() += kLayersUnderCorner * sim.selfContact()->thickness();
   lift_ = (to_ - from_).norm() / 3.0;
 }

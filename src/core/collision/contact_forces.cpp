@@ -405,7 +405,9 @@ void ContactForces::markTouched(std::vector<char>& mask) const {
 void ContactForces::addSelfPushes(Points& pushes) const {
   for (const PairForce& f : pairs_) {
     if (f.lambda <= 0.0) continue;
-    for (int k = 0; k < 4; ++k) pushes.col(f.pair.vertex[k]) += (f.pair.weight[k] * f.lambda) * f.pair.normal;
+    for (int k = 0; k < 4; ++k) {
+      pushes.col(f.pair.vertex[k]) += (f.pair.weight[k] * f.lambda) * f.pair.normal;
+    }
   }
 }
 

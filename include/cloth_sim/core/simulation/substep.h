@@ -66,7 +66,7 @@ class SubstepPipeline {
   }
   /// m: the frame's error estimate from the substeps run since beginFrame (FrameError::rms).
   double frameErrorEstimate() const { return frame_error_.rms(); }
-  /// The contact forces of the last substep (ContactForces::selfPush).
+  /// The contact forces of the last substep (ContactForces::addSelfPushes).
   const ContactForces& contactForces() const { return contacts_; }
   /// One substep of @p h s with @p pins at @p revision (SolverInput), its iterations stopped at
   /// an estimated iteration error of @p iteration_tolerance m (0: the settings' count); adds its
